@@ -1,0 +1,95 @@
+// The one surface every acceleration structure has (DESIGN.md §2): build, bounds,
+// intersect, occluded, stats; made by name from one factory. Dispatch is once per ray; the
+// inner loops behind intersect/occluded are non-virtual.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "core/ray.h"
+#include "core/scene.h"
+
+namespace gs {
+
+enum class AxisRule { alternate, cost };
+
+// Every structure parameter, named after the paper (§6.2) where the paper names it.
+// Each run echoes these into its stats.
+struct AccelParams {
+  // Section 6.2 code timings, relative units (calibrated constants come later).
+  double intcost = 1.0;   // one ray/triangle test
+  double repcost = 0.1;   // a mailbox-rejected repeat
+  double travcost = 0.4;  // one cell step
+  double vertcost = 1.0;  // initialising a ray in a subdivided voxel
+  double subcost = 2.0;   // sorting one triangle into a voxel's cells
+  int max_granularity = 20;
+  AxisRule axis = AxisRule::alternate;
+  int max_depth = 32;                          // voxel depth cap (degenerate input)
+  uint64_t memory_budget = uint64_t{8} << 30;  // bytes of structure, reserved not committed
+  // Sampling pass (§6.5): one sample ray per this many rays of the run.
+  int sample_every = 64;
+
+  nlohmann::json to_json() const;
+};
+
+// Counters a tracing thread accumulates; merged by the caller at the end of a run.
+struct TraceCounters {
+  uint64_t intersection_tests = 0;  // real ray/triangle tests, mailbox rejections excluded
+  uint64_t mailbox_rejections = 0;
+  uint64_t traversal_steps = 0;     // cell-to-cell steps
+  double lazy_build_seconds = 0.0;  // time this thread spent building voxels
+
+  void add(const TraceCounters& other);
+};
+
+// Per-thread scratch a structure needs while tracing (mailboxes, traversal state values).
+// Owned by exactly one thread at a time.
+class ThreadContext {
+ public:
+  virtual ~ThreadContext() = default;
+  TraceCounters counters;
+};
+
+// Structure figures; std::nullopt where a structure cannot measure one (written as null).
+struct StructureStats {
+  std::optional<uint64_t> nodes;
+  std::optional<uint64_t> voxels_subdivided;
+  std::optional<uint64_t> leaves;
+  std::optional<uint64_t> traversal_states;
+  uint64_t memory_bytes = 0;
+  double build_seconds = 0.0;  // up-front build plus the sampling pass (lazy work is added by callers)
+  uint64_t voxels_over_budget = 0;  // voxels left leaves because the memory budget was reached
+};
+
+class Accelerator {
+ public:
+  virtual ~Accelerator() = default;
+  virtual std::string name() const = 0;
+
+  // Builds what is built up front. The scene must outlive the structure.
+  virtual void build(const Scene& scene) = 0;
+  // The paper's sampling pass (§6.5): a regular subset of the run's rays, traced before the
+  // run so that the cost function knows how many rays cross a voxel. Default: nothing.
+  virtual void sample(std::span<const Ray> sample_rays, double rays_in_run);
+  // Builds everything a lazy structure would build on demand (--eager). Default: nothing.
+  virtual void build_all() {}
+
+  virtual Box bounds() const = 0;
+  virtual std::unique_ptr<ThreadContext> make_context() const = 0;
+  // Nearest hit with tmin < t <= tmax, lowest id among equal t; a miss for invalid rays.
+  virtual Hit intersect(const Ray& ray, ThreadContext& context) const = 0;
+  // Any hit with tmin < t <= tmax.
+  virtual bool occluded(const Ray& ray, ThreadContext& context) const = 0;
+  virtual StructureStats stats() const = 0;
+};
+
+std::vector<std::string> accelerator_names();
+// Throws UsageError for an unknown name.
+std::unique_ptr<Accelerator> make_accelerator(const std::string& name, const AccelParams& params);
+
+}  // namespace gs

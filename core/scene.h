@@ -1,0 +1,59 @@
+// A scene is a triangle soup in triangle-id order (DESIGN.md §3: faces in file order, an
+// n-gon split into n-2 consecutive ids). Loaders and built-in generators produce it; every
+// accelerator consumes it.
+#pragma once
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace gs {
+
+struct Box {
+  glm::vec3 lo{std::numeric_limits<float>::infinity()};
+  glm::vec3 hi{-std::numeric_limits<float>::infinity()};
+
+  void extend(const glm::vec3& p);
+  bool empty() const { return lo.x > hi.x || lo.y > hi.y || lo.z > hi.z; }
+};
+
+struct Scene {
+  std::string name;  // the SCENE argument it was loaded from ("builtin:pyramid", a path)
+  std::vector<glm::vec3> vertices;
+  std::vector<glm::uvec3> triangles;  // vertex indices; the position is the triangle id
+
+  size_t triangle_count() const { return triangles.size(); }
+  const glm::vec3& vertex(uint32_t triangle, int corner) const {
+    return vertices[triangles[triangle][corner]];
+  }
+  Box bounds() const;  // of the vertices used by triangles
+  // Zero-area triangles (coincident or collinear corners): kept in the id sequence, set
+  // aside by every structure and counted in stats.
+  bool is_degenerate(uint32_t triangle) const;
+  size_t degenerate_count() const;
+};
+
+// Loads SCENE: a path to .obj, .ply or .ply.gz / .obj.gz, or "builtin:NAME".
+// Throws InputError ("FILE: problem") for a missing, unreadable or malformed file, NaN or
+// infinite coordinates, out-of-range indices, or a scene with no triangles.
+Scene load_scene(const std::string& spec);
+
+// Format-specific loaders (used by load_scene; `name` is used in error messages).
+Scene load_obj(const std::string& path);
+Scene load_ply(const std::string& path);
+// Built-in procedural scenes: "pyramid", "lumpy", "sphereflake". Throws InputError for others.
+Scene make_builtin_scene(const std::string& name);
+std::vector<std::string> builtin_scene_names();
+
+// Writes the scene as OBJ: one `v` per vertex, one `f` per triangle, in id order.
+// Throws InputError when the file cannot be written.
+void export_obj(const Scene& scene, const std::string& path);
+
+// Splits a polygon (vertex indices in order) into n-2 triangles keeping its vertex order:
+// a fan for convex polygons, ear clipping for concave ones.
+void triangulate_polygon(const std::vector<glm::vec3>& vertices,
+                         const std::vector<uint32_t>& polygon, std::vector<glm::uvec3>& out);
+
+}  // namespace gs
