@@ -4,12 +4,11 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <span>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json_fwd.hpp>
 
 #include "core/ray.h"
 #include "core/scene.h"
@@ -62,7 +61,8 @@ struct StructureStats {
   std::optional<uint64_t> leaves;
   std::optional<uint64_t> traversal_states;
   uint64_t memory_bytes = 0;
-  double build_seconds = 0.0;  // up-front build plus the sampling pass (lazy work is added by callers)
+  double build_seconds =
+      0.0;  // up-front build plus the sampling pass (lazy work is added by callers)
   uint64_t voxels_over_budget = 0;  // voxels left leaves because the memory budget was reached
 };
 
@@ -83,8 +83,12 @@ class Accelerator {
   virtual std::unique_ptr<ThreadContext> make_context() const = 0;
   // Nearest hit with tmin < t <= tmax, lowest id among equal t; a miss for invalid rays.
   virtual Hit intersect(const Ray& ray, ThreadContext& context) const = 0;
-  // Any hit with tmin < t <= tmax.
-  virtual bool occluded(const Ray& ray, ThreadContext& context) const = 0;
+  // Some hit with tmin < t <= tmax (not necessarily the nearest), or a miss; the walk stops
+  // at the first one found. Shadow rays and `trace --occluded`.
+  virtual Hit any_hit(const Ray& ray, ThreadContext& context) const = 0;
+  bool occluded(const Ray& ray, ThreadContext& context) const {
+    return any_hit(ray, context).found();
+  }
   virtual StructureStats stats() const = 0;
 };
 

@@ -1,5 +1,7 @@
 #include "core/geometry.h"
 
+#include <algorithm>
+
 namespace gs {
 
 std::vector<TriangleVerts> gather_triangles(const Scene& scene) {
@@ -7,6 +9,37 @@ std::vector<TriangleVerts> gather_triangles(const Scene& scene) {
   for (uint32_t i = 0; i < out.size(); ++i)
     out[i] = {scene.vertex(i, 0), scene.vertex(i, 1), scene.vertex(i, 2)};
   return out;
+}
+
+bool clip_segment(const double origin[3], const double dir[3], const double lo[3],
+                  const double hi[3], double& t0, double& t1) {
+  for (int a = 0; a < 3; ++a) {
+    if (dir[a] == 0.0) {
+      if (origin[a] < lo[a] || origin[a] > hi[a]) return false;
+      continue;
+    }
+    double ta = (lo[a] - origin[a]) / dir[a], tb = (hi[a] - origin[a]) / dir[a];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta), t1 = std::min(t1, tb);
+  }
+  return t0 <= t1;
+}
+
+ClipBox::ClipBox(const Box& scene) : empty(scene.empty()) {
+  if (empty) return;
+  for (int a = 0; a < 3; ++a)
+    magnitude =
+        std::max({magnitude, std::fabs(double(scene.lo[a])), std::fabs(double(scene.hi[a]))});
+  padding = kPadding * magnitude;
+  for (int a = 0; a < 3; ++a) lo[a] = scene.lo[a] - padding, hi[a] = scene.hi[a] + padding;
+}
+
+bool ClipBox::clip(const Ray& ray, double& t0, double& t1) const {
+  if (empty || !ray_is_valid(ray)) return false;
+  const double origin[3] = {ray.origin.x, ray.origin.y, ray.origin.z};
+  const double dir[3] = {ray.dir.x, ray.dir.y, ray.dir.z};
+  t0 = ray.tmin, t1 = ray.tmax;
+  return clip_segment(origin, dir, lo, hi, t0, t1);
 }
 
 bool ray_is_valid(const Ray& ray) {

@@ -8,11 +8,12 @@
 // one of the triangles. Edge functions that round to exactly zero are redone in the next
 // wider type, as the paper prescribes.
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <vector>
-
+#include <glm/common.hpp>
 #include <glm/vec3.hpp>
+#include <vector>
 
 #include "core/ray.h"
 #include "core/scene.h"
@@ -37,16 +38,46 @@ struct WiderType<double> {
   using type = long double;
 };
 
-// The per-ray part of the test: axis permutation and shear (section 3 of the paper).
+// Clips [t0, t1] to the box lo..hi; false when nothing is left. A zero direction
+// component constrains only through the origin.
+bool clip_segment(const double origin[3], const double dir[3], const double lo[3],
+                  const double hi[3], double& t0, double& t1);
+
+// The box every structure (brute included) clips rays to before testing triangles: the
+// scene box padded by kPadding of the largest coordinate magnitude. The float kernel's
+// answers are off from exact geometry by a few ulps of the coordinates involved; the padding
+// covers that, so a hit the kernel reports is always inside the box and inside every cell
+// a structure sorted its triangle into with the same padding.
+struct ClipBox {
+  static constexpr double kPadding = 2e-6;  // about 17 float ulps
+  double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  double magnitude = 0.0;  // largest |coordinate| of the scene box
+  double padding = 0.0;    // kPadding * magnitude
+  bool empty = true;
+
+  ClipBox() = default;
+  explicit ClipBox(const Box& scene);
+  // The ray's [tmin, tmax] clipped to the box; false for a ray that misses it or is invalid.
+  bool clip(const Ray& ray, double& t0, double& t1) const;
+};
+
+// The per-ray part of the test: axis permutation and shear (section 3 of the paper). The
+// origin is first moved along the ray to where it enters the clip box (`shift`), so that
+// the kernel's rounding is relative to the scene's size rather than to how far away the
+// ray starts; t is reported from the true origin.
 template <class Real>
 struct PreparedRay {
   using Vec = glm::vec<3, Real>;
   Vec origin;
+  Real shift;
   Real tmin;
   int kx, ky, kz;
   Real sx, sy, sz;
 
-  explicit PreparedRay(const Ray& ray) : origin(Vec(ray.origin)), tmin(Real(ray.tmin)) {
+  PreparedRay(const Ray& ray, double shift_to)
+      : origin(Vec(glm::dvec3(ray.origin) + shift_to * glm::dvec3(ray.dir))),
+        shift(Real(shift_to)),
+        tmin(Real(ray.tmin)) {
     const Vec dir(ray.dir);
     const Vec mag = glm::abs(dir);
     kz = (mag.x >= mag.y) ? (mag.x >= mag.z ? 0 : 2) : (mag.y >= mag.z ? 1 : 2);
@@ -66,19 +97,23 @@ struct TriangleHit {
 // Tests one triangle. On a hit with tmin < t <= tmax writes t and the barycentric weights
 // of the second (u) and third (v) corner and returns true.
 template <class Real>
-inline bool intersect_triangle(const PreparedRay<Real>& ray, const glm::vec3& p0,
-                               const glm::vec3& p1, const glm::vec3& p2, Real tmax, Real& t,
-                               Real& u, Real& v) {
-  using Vec = glm::vec<3, Real>;
-  const Vec a = Vec(p0) - ray.origin;
-  const Vec b = Vec(p1) - ray.origin;
-  const Vec c = Vec(p2) - ray.origin;
-  const Real ax = a[ray.kx] - ray.sx * a[ray.kz];
-  const Real ay = a[ray.ky] - ray.sy * a[ray.kz];
-  const Real bx = b[ray.kx] - ray.sx * b[ray.kz];
-  const Real by = b[ray.ky] - ray.sy * b[ray.kz];
-  const Real cx = c[ray.kx] - ray.sx * c[ray.kz];
-  const Real cy = c[ray.ky] - ray.sy * c[ray.kz];
+[[gnu::always_inline]] inline bool intersect_triangle(const PreparedRay<Real>& ray,
+                                                      const glm::vec3& p0, const glm::vec3& p1,
+                                                      const glm::vec3& p2, Real tmax, Real& t,
+                                                      Real& u, Real& v) {
+  // Raw component access: glm's operator[] is a switch, too slow for the inner loop.
+  const float* c0 = &p0.x;
+  const float* c1 = &p1.x;
+  const float* c2 = &p2.x;
+  const Real* o = &ray.origin.x;
+  const int kx = ray.kx, ky = ray.ky, kz = ray.kz;
+  const Real az = Real(c0[kz]) - o[kz], bz = Real(c1[kz]) - o[kz], cz = Real(c2[kz]) - o[kz];
+  const Real ax = (Real(c0[kx]) - o[kx]) - ray.sx * az;
+  const Real ay = (Real(c0[ky]) - o[ky]) - ray.sy * az;
+  const Real bx = (Real(c1[kx]) - o[kx]) - ray.sx * bz;
+  const Real by = (Real(c1[ky]) - o[ky]) - ray.sy * bz;
+  const Real cx = (Real(c2[kx]) - o[kx]) - ray.sx * cz;
+  const Real cy = (Real(c2[ky]) - o[ky]) - ray.sy * cz;
   Real e0 = cx * by - cy * bx;  // weight of p0
   Real e1 = ax * cy - ay * cx;  // weight of p1
   Real e2 = bx * ay - by * ax;  // weight of p2
@@ -88,14 +123,11 @@ inline bool intersect_triangle(const PreparedRay<Real>& ray, const glm::vec3& p0
     e1 = Real(W(ax) * W(cy) - W(ay) * W(cx));
     e2 = Real(W(bx) * W(ay) - W(by) * W(ax));
   }
-  if ((e0 < 0 || e1 < 0 || e2 < 0) && (e0 > 0 || e1 > 0 || e2 > 0)) return false;
+  if (std::min({e0, e1, e2}) < Real(0) && std::max({e0, e1, e2}) > Real(0)) return false;
   const Real det = e0 + e1 + e2;
   if (det == Real(0)) return false;
-  const Real az = ray.sz * a[ray.kz];
-  const Real bz = ray.sz * b[ray.kz];
-  const Real cz = ray.sz * c[ray.kz];
-  const Real scaled_t = e0 * az + e1 * bz + e2 * cz;
-  const Real hit_t = scaled_t / det;
+  const Real scaled_t = e0 * (ray.sz * az) + e1 * (ray.sz * bz) + e2 * (ray.sz * cz);
+  const Real hit_t = ray.shift + scaled_t / det;
   if (!(hit_t > ray.tmin && hit_t <= tmax)) return false;
   t = hit_t;
   u = e1 / det;

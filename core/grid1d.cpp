@@ -1,1 +1,632 @@
-// placeholder: being written
+#include "core/grid1d.h"
+
+#include <algorithm>
+#include <cfloat>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "core/cost_model.h"
+
+namespace gs {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// Absolute granularities stay exact integers in double (wall = x0 + E * (I / G)).
+constexpr uint64_t kMaxAbsoluteGranularity = uint64_t{1} << 50;
+// Cells narrower than this many float ulps of the scene's coordinates separate nothing:
+// triangles are sorted into cells with intervals padded by ClipBox::padding (about 17 ulps)
+// so that a triangle on, or within the kernel's rounding of, a wall is in both cells
+// (DESIGN.md §1, degenerate input).
+constexpr double kMinCellUlps = 256.0;
+// The walk ends when the current cell's exit lies beyond the nearest hit by more than the
+// float kernel's error (relative to the distances involved); see Grid1D::trace.
+constexpr double kExitSlack = 1e-5;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// A wall of the global grid (origin, extent, granularity). Computed from the integer index
+// so that one physical wall has bit-identical coordinates at every level: I / G is the
+// correctly rounded quotient, the same for every (I, G) naming the same fraction.
+double grid_wall(double origin, double extent, uint64_t index, uint64_t granularity) {
+  return origin + extent * (double(index) / double(granularity));
+}
+
+double surface_area(const double extent[3]) {
+  return 2.0 * (extent[0] * extent[1] + extent[1] * extent[2] + extent[2] * extent[0]);
+}
+
+}  // namespace
+
+// Where a voxel is and what the build knows about it. Cold data: read only when the voxel
+// is examined. Immutable once its parent is published.
+struct Grid1D::Region {
+  uint64_t cell[3];   // the voxel's slab on each axis's grid...
+  uint64_t grid[3];   // ... of this granularity (1: the scene box)
+  uint32_t above[3];  // nearest ancestor cut along each axis (kNone: the scene box)
+  uint32_t depth;
+  uint32_t sample_begin, sample_count;  // sample rays whose segments cross the voxel
+  double area_rays;                     // rays estimated from the parent by surface area (§6.5)
+};
+
+// A ray of the sampling pass: its segment [t0, t1] inside the scene box; t1 shrinks to
+// the ray's hit once the pass has traced it.
+struct Grid1D::SampleRay {
+  Ray ray;
+  double origin[3], dir[3];
+  double t0, t1;
+};
+
+// The outcome of the cost function for one voxel: the chosen axis and g, and the contents
+// of each cell (offsets into the flat lists, g + 1 entries each).
+struct Grid1D::Cut {
+  int axis = 0;
+  int granularity = 0;  // < 2: stays a leaf
+  std::vector<uint32_t> tri_offsets, tris;
+  std::vector<uint32_t> sample_offsets, samples;
+  double rays = 0;
+};
+
+// A ray's per-thread traversal scratch. Mailboxes and state values belong to the thread:
+// the paper's per-object stamp would race between threads (DESIGN.md §1). Ray ids are 64
+// bits so that stamps never wrap.
+class Grid1D::Context final : public ThreadContext {
+ public:
+  // The ray's position on one global grid (the paper's dist, delta and index): its slab
+  // and the distance to the slab's exit, valid for the ray `stamp` while t < t_next (the
+  // ray moves monotonically). Wall distances are t_origin + I * t_width from the integer
+  // wall index I, never accumulated, so they do not drift along a long walk.
+  struct StateValues {
+    uint64_t stamp = 0;
+    int64_t index = 0;
+    double t_next = 0.0;
+    double t_origin = 0.0;  // distance to the grid's wall 0
+    double t_width = 0.0;   // distance between walls (signed like the direction)
+    double exit_distance(int64_t slab, int step) const {
+      return t_origin + double(step > 0 ? slab + 1 : slab) * t_width;
+    }
+  };
+
+  // Ray-id mailboxing (§6.4) in a small direct-mapped table rather than a stamp per
+  // triangle: it stays in L1 whatever the scene's size. A collision only costs a repeated
+  // test, whose answer is the same.
+  bool already_tested(uint32_t triangle, uint64_t ray) {
+    const size_t slot = triangle & (kMailboxSlots - 1);
+    if (mailbox_ray[slot] == ray && mailbox_triangle[slot] == triangle) return true;
+    mailbox_ray[slot] = ray, mailbox_triangle[slot] = triangle;
+    return false;
+  }
+  StateValues& state(uint32_t id) {
+    if (id >= states.size()) states.resize(size_t(id) + 64);
+    return states[id];
+  }
+
+  static constexpr size_t kMailboxSlots = 256;
+  uint64_t mailbox_ray[kMailboxSlots] = {};
+  uint32_t mailbox_triangle[kMailboxSlots] = {};
+  std::vector<StateValues> states;
+  uint64_t ray_id = 0;
+};
+
+// One ray's walk: its origin and direction in double and, per axis, the voxel whose
+// traversal state gives the ray's current slab on that axis (§5.3: the current voxel's own
+// axis and the "voxels above" on the two others).
+struct Grid1D::RayWalk {
+  double origin[3], dir[3], inv_dir[3];
+  int step[3];  // +1, -1, or 0 where the direction component is zero
+  uint32_t active[3];
+  uint32_t active_state[3];
+  uint64_t ray_id;
+};
+
+Grid1D::Grid1D(const AccelParams& params)
+    : params_(params),
+      voxels_(params.memory_budget),
+      regions_(params.memory_budget),
+      tri_indices_(params.memory_budget),
+      packed_(params.memory_budget),
+      sample_indices_(params.memory_budget),
+      states_(std::min<uint64_t>(params.memory_budget, uint64_t{64} << 20)) {}
+
+Grid1D::~Grid1D() = default;
+
+void Grid1D::voxel_box(uint32_t id, double lo[3], double hi[3]) const {
+  const Region& region = regions_[id];
+  for (int a = 0; a < 3; ++a) {
+    const double origin = root_.lo[a], extent = root_.hi[a] - root_.lo[a];
+    lo[a] = grid_wall(origin, extent, region.cell[a], region.grid[a]);
+    hi[a] = grid_wall(origin, extent, region.cell[a] + 1, region.grid[a]);
+  }
+}
+
+void Grid1D::build(const Scene& scene) {
+  const auto start = Clock::now();
+  triangles_ = gather_triangles(scene);
+  bounds_ = scene.bounds();
+  tri_box_.resize(triangles_.size() * 6);
+  std::vector<uint32_t> usable;
+  for (uint32_t id = 0; id < triangles_.size(); ++id) {
+    const TriangleVerts& t = triangles_[id];
+    const glm::vec3 lo = glm::min(t.v0, glm::min(t.v1, t.v2));
+    const glm::vec3 hi = glm::max(t.v0, glm::max(t.v1, t.v2));
+    std::copy(&lo.x, &lo.x + 3, &tri_box_[id * 6]);
+    std::copy(&hi.x, &hi.x + 3, &tri_box_[id * 6 + 3]);
+    if (scene.is_degenerate(id))
+      ++degenerate_;
+    else
+      usable.push_back(id);
+  }
+  root_ = ClipBox(bounds_);
+  for (uint32_t a = 0; a < 3; ++a) state_for(a, 1);  // states 0, 1, 2: the box on each axis
+  const uint32_t root = uint32_t(voxels_.append(1));
+  regions_.append(1);
+  Voxel& voxel = voxels_[root];
+  voxel.tri_begin = uint32_t(tri_indices_.append(usable.size()));
+  voxel.tri_count = uint32_t(usable.size());
+  std::copy(usable.begin(), usable.end(), &tri_indices_[voxel.tri_begin]);
+  Region& region = regions_[root];
+  for (int a = 0; a < 3; ++a) region.cell[a] = 0, region.grid[a] = 1, region.above[a] = kNone;
+  region.area_rays = kInf;  // no sampling pass: assume plenty of rays
+  bytes_used_ = sizeof(Voxel) + sizeof(Region) + usable.size() * sizeof(uint32_t);
+  build_seconds_ = seconds_since(start);
+}
+
+void Grid1D::sample(std::span<const Ray> sample_rays, double rays_in_run) {
+  const auto start = Clock::now();
+  for (const Ray& ray : sample_rays) {
+    SampleRay s{};
+    s.ray = ray;
+    if (!root_.clip(ray, s.t0, s.t1)) continue;
+    for (int a = 0; a < 3; ++a) s.origin[a] = ray.origin[a], s.dir[a] = ray.dir[a];
+    sample_.push_back(s);
+  }
+  sampled_ = true;
+  rays_per_sample_ = sample_rays.empty() ? 0.0 : rays_in_run / double(sample_rays.size());
+  Region& root = regions_[0];
+  root.area_rays = rays_in_run;  // used only if no sample segment crosses the box
+  root.sample_count = uint32_t(sample_.size());
+  root.sample_begin = uint32_t(sample_indices_.append(sample_.size()));
+  for (uint32_t j = 0; j < sample_.size(); ++j) sample_indices_[root.sample_begin + j] = j;
+  bytes_used_ += sample_.size() * sizeof(uint32_t);
+
+  // The breadth of the paper's pass is the sample; its order is fixed (ray order, one
+  // thread), so every cut it makes is a function of the sample alone.
+  Context context;
+  for (SampleRay& s : sample_) {
+    const Hit hit = trace<false>(s.ray, context);
+    if (hit.found()) s.t1 = std::min(s.t1, double(hit.t));
+  }
+  build_seconds_ += seconds_since(start);
+}
+
+void Grid1D::build_all() {
+  const auto start = Clock::now();
+  Context context;
+  std::vector<uint32_t> stack{0};
+  while (!stack.empty()) {
+    const uint32_t id = stack.back();
+    stack.pop_back();
+    uint8_t status = voxels_[id].status.load(std::memory_order_acquire);
+    if (status == kUnexamined) status = examine(id, context);
+    if (status != kSplit) continue;
+    const Voxel& voxel = voxels_[id];
+    for (uint32_t i = 0; i < voxel.granularity; ++i) stack.push_back(voxel.first_child + i);
+  }
+  build_seconds_ += seconds_since(start);
+}
+
+std::unique_ptr<ThreadContext> Grid1D::make_context() const { return std::make_unique<Context>(); }
+
+Hit Grid1D::intersect(const Ray& ray, ThreadContext& context) const {
+  return trace<false>(ray, static_cast<Context&>(context));
+}
+
+Hit Grid1D::any_hit(const Ray& ray, ThreadContext& context) const {
+  return trace<true>(ray, static_cast<Context&>(context));
+}
+
+// §5: clip the ray to the scene box, descend to the leaf where it enters (vertical
+// traversal), then step cell by cell along the axis whose next wall is nearest
+// (horizontal traversal), climbing to the voxel above when a step leaves a 1D array.
+template <bool AnyHit>
+Hit Grid1D::trace(const Ray& ray, Context& context) const {
+  Hit best;
+  double t_enter, t_leave;
+  if (!root_.clip(ray, t_enter, t_leave)) return best;
+  RayWalk walk;
+  double largest = root_.magnitude, longest = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    walk.origin[a] = ray.origin[a], walk.dir[a] = ray.dir[a];
+    walk.step[a] = walk.dir[a] > 0.0 ? 1 : walk.dir[a] < 0.0 ? -1 : 0;
+    walk.inv_dir[a] = 1.0 / walk.dir[a];
+    largest = std::max(largest, std::fabs(walk.origin[a]));
+    longest = std::max(longest, std::fabs(walk.dir[a]));
+  }
+  // The float kernel's t is off from the exact crossing by a few ulps of the distances
+  // involved; a hit may therefore be reported up to this much before the wall it lies
+  // behind, and the walk must not stop until the cell exit is past it by more than that.
+  const double slack = kExitSlack * largest / longest;
+  walk.ray_id = ++context.ray_id;
+  for (uint32_t a = 0; a < 3; ++a) {
+    Context::StateValues& box = context.state(a);
+    box.stamp = walk.ray_id, box.index = 0;
+    const double exit_wall = walk.step[a] > 0 ? root_.hi[a] : root_.lo[a];
+    box.t_next = walk.step[a] == 0 ? kInf : (exit_wall - walk.origin[a]) * walk.inv_dir[a];
+    walk.active[a] = kNone, walk.active_state[a] = a;
+  }
+
+  const PreparedRay<float> prepared(ray, t_enter);
+  float tmax = ray.tmax;
+  TraceCounters& counters = context.counters;
+  uint8_t status;
+  uint32_t leaf = descend(0, t_enter, -1, walk, context, status);
+  for (;;) {
+    if (test_leaf<AnyHit>(leaf, status, prepared, walk.ray_id, tmax, best, context) && AnyHit)
+      return best;
+    // Leave the cell through its nearest wall, unless the nearest hit lies before it.
+    int s = 0;
+    double t_exit = context.states[walk.active_state[0]].t_next;
+    for (int a = 1; a < 3; ++a) {
+      const double t = context.states[walk.active_state[a]].t_next;
+      if (t < t_exit) t_exit = t, s = a;
+    }
+    if (t_exit > double(tmax) + slack) break;
+    // Step one cell on axis s; climb while the step leaves the current 1D array (§5.3).
+    uint32_t id = walk.active[s];
+    uint64_t local = 0;
+    for (;; id = voxels_[id].above[s]) {
+      if (id == kNone) return best;  // left the scene
+      const Voxel& up = voxels_[id];
+      Context::StateValues& values = context.states[up.state];
+      const int64_t next = values.index + walk.step[s];
+      local = uint64_t(next - int64_t(up.first_cell));
+      if (local < up.granularity) {
+        values.index = next;
+        values.t_next = values.exit_distance(next, walk.step[s]);
+        break;
+      }
+    }
+    ++counters.traversal_steps;
+    const Voxel& moved = voxels_[id];
+    walk.active[s] = id, walk.active_state[s] = moved.state;
+    // The other axes' positions come from the voxels above the one the step moved in;
+    // usually they already are (the step happened in the deepest voxel).
+    for (int c = 0; c < 3; ++c) {
+      if (c == s || walk.active[c] == moved.above[c]) continue;
+      walk.active[c] = moved.above[c];
+      walk.active_state[c] = moved.above[c] == kNone ? uint32_t(c) : voxels_[moved.above[c]].state;
+    }
+    leaf = moved.first_child + uint32_t(local);
+    status = voxels_[leaf].status.load(std::memory_order_acquire);
+    if (status != kLeaf) leaf = descend(leaf, t_exit, s, walk, context, status);
+  }
+  return best;
+}
+
+// Tests the leaf's triangles not yet tested by this ray; true when one is hit. A leaf
+// another thread is still cutting (kBuilding) is read through its id list.
+template <bool AnyHit>
+bool Grid1D::test_leaf(uint32_t id, uint8_t status, const PreparedRay<float>& prepared,
+                       uint64_t ray_id, float& tmax, Hit& best, Context& context) const {
+  const Voxel& voxel = voxels_[id];
+  const bool packed = status == kLeaf && voxel.first_packed != kNone;
+  TraceCounters& counters = context.counters;
+  bool found = false;
+  for (uint32_t i = 0; i < voxel.tri_count; ++i) {
+    const uint32_t tri_id =
+        packed ? packed_[voxel.first_packed + i].id : tri_indices_[voxel.tri_begin + i];
+    if (context.already_tested(tri_id, ray_id)) {
+      ++counters.mailbox_rejections;
+      continue;
+    }
+    ++counters.intersection_tests;
+    const TriangleVerts& tri = packed ? packed_[voxel.first_packed + i].verts : triangles_[tri_id];
+    float t, u, v;
+    if (intersect_triangle(prepared, tri.v0, tri.v1, tri.v2, tmax, t, u, v) &&
+        closer(t, int32_t(tri_id), best)) {
+      best = {int32_t(tri_id), t, u, v};
+      tmax = t;
+      found = true;
+      if (AnyHit) return true;
+    }
+  }
+  return found;
+}
+
+// §5.2: from `id`, which the ray occupies at t_cur, down to the leaf containing the ray,
+// setting each passed voxel's traversal state. The §5.2.2 cases: a state this ray used
+// and has not yet left needs nothing; entering through a wall on the voxel's own axis puts
+// the ray in the first or last cell (figure 7); otherwise the cell comes from the point.
+uint32_t Grid1D::descend(uint32_t id, double t_cur, int entered_axis, RayWalk& walk,
+                         Context& context, uint8_t& status) const {
+  for (;;) {
+    const Voxel& voxel = voxels_[id];
+    status = voxel.status.load(std::memory_order_acquire);
+    if (status == kUnexamined) status = examine(id, context);
+    // A voxel another thread is cutting is searched as the leaf it still is.
+    if (status != kSplit) return id;
+    const uint32_t b = voxel.axis;
+    const int64_t g = voxel.granularity;
+    const int64_t first = int64_t(voxel.first_cell);
+    Context::StateValues& values = context.state(voxel.state);
+    int64_t local = values.index - first;
+    const bool used_by_ray = values.stamp == walk.ray_id;
+    if (!used_by_ray || values.t_next <= t_cur || local < 0 || local >= g ||
+        int(b) == entered_axis) {
+      const StateInfo& info = states_[voxel.state];
+      if (!used_by_ray) {
+        values.stamp = walk.ray_id;
+        values.t_origin = (info.origin - walk.origin[b]) * walk.inv_dir[b];
+        values.t_width = info.width * walk.inv_dir[b];
+      }
+      if (int(b) == entered_axis) {
+        local = walk.step[b] > 0 ? 0 : g - 1;
+      } else {
+        const double p = walk.origin[b] + t_cur * walk.dir[b];
+        const double cell = std::floor((p - info.origin) * info.scale) - double(first);
+        local = int64_t(std::clamp(cell, 0.0, double(g - 1)));
+      }
+      values.index = first + local;
+      values.t_next = walk.step[b] == 0 ? kInf : values.exit_distance(values.index, walk.step[b]);
+    }
+    walk.active[b] = id, walk.active_state[b] = voxel.state;
+    id = voxel.first_child + uint32_t(local);
+  }
+}
+
+uint8_t Grid1D::examine(uint32_t id, Context& context) const {
+  uint8_t expected = kUnexamined;
+  if (!voxels_[id].status.compare_exchange_strong(expected, kBuilding, std::memory_order_acquire))
+    return expected;
+  const auto start = Clock::now();
+  const Cut cut = plan_cut(id);
+  const uint8_t status = (cut.granularity >= 2 && commit_cut(id, cut)) ? kSplit : kLeaf;
+  if (status == kLeaf) voxels_[id].first_packed = pack_leaf(id);
+  voxels_[id].status.store(status, std::memory_order_release);
+  context.counters.lazy_build_seconds += seconds_since(start);
+  return status;
+}
+
+// Copies a finished leaf's triangles into one contiguous run; kNone when the memory
+// budget is spent (the leaf is then read through its id list).
+uint32_t Grid1D::pack_leaf(uint32_t id) const {
+  const Voxel& voxel = voxels_[id];
+  size_t first;
+  {
+    std::lock_guard lock(build_mutex_);
+    const uint64_t bytes = uint64_t(voxel.tri_count) * sizeof(PackedTriangle);
+    first =
+        bytes_used_ + bytes <= params_.memory_budget ? packed_.append(voxel.tri_count) : SIZE_MAX;
+    if (first == SIZE_MAX || first + voxel.tri_count >= kNone) return kNone;
+    bytes_used_ += bytes;
+  }
+  for (uint32_t i = 0; i < voxel.tri_count; ++i) {
+    const uint32_t tri_id = tri_indices_[voxel.tri_begin + i];
+    packed_[first + i] = {triangles_[tri_id], tri_id};
+  }
+  return uint32_t(first);
+}
+
+// Rays of the run crossing the voxel: the sample's segments that cross it, scaled to the
+// run; a voxel no segment crosses gets the area estimate from its parent (§6.5).
+double Grid1D::estimated_rays(uint32_t id) const {
+  const Region& region = regions_[id];
+  if (!sampled_) return region.area_rays;
+  double lo[3], hi[3];
+  voxel_box(id, lo, hi);
+  uint32_t crossing = 0;
+  for (uint32_t i = 0; i < region.sample_count; ++i) {
+    const SampleRay& s = sample_[sample_indices_[region.sample_begin + i]];
+    double t0 = s.t0, t1 = s.t1;
+    crossing += clip_segment(s.origin, s.dir, lo, hi, t0, t1);
+  }
+  return crossing > 0 ? crossing * rays_per_sample_ : region.area_rays;
+}
+
+namespace {
+
+// Which cell of a cut a coordinate falls in, clamped to the voxel's own cells.
+struct CellLocator {
+  double origin, scale, first_cell, last_local;
+  int64_t operator()(double x) const {
+    return int64_t(std::clamp(std::floor((x - origin) * scale) - first_cell, 0.0, last_local));
+  }
+};
+
+// Spreads items over g cells given each item's first and last cell: offsets (g + 1) and a
+// flat list, items in their original order within each cell.
+void fill_cells(const std::vector<std::pair<int64_t, int64_t>>& ranges,
+                const std::vector<uint32_t>& items, int g, std::vector<uint32_t>& offsets,
+                std::vector<uint32_t>& flat) {
+  offsets.assign(size_t(g) + 1, 0);
+  for (const auto& [c0, c1] : ranges)
+    for (int64_t c = c0; c <= c1; ++c) ++offsets[size_t(c) + 1];
+  for (int c = 0; c < g; ++c) offsets[c + 1] += offsets[c];
+  flat.resize(offsets[g]);
+  std::vector<uint32_t> cursor(offsets.begin(), offsets.end() - 1);
+  for (size_t i = 0; i < items.size(); ++i)
+    for (int64_t c = ranges[i].first; c <= ranges[i].second; ++c) flat[cursor[c]++] = items[i];
+}
+
+}  // namespace
+
+// The §6 decision for one voxel, a pure function of the voxel, the sample and the
+// parameters (never of which ray arrived first), so lazy, eager and any number of threads
+// build the same structure. Candidate axes: the paper's alternation by depth, or all axes
+// by cost (the paper's future work, comparing with the along-axis term added back). An
+// axis that cannot be cut (too thin) or whose cut separates nothing (every cell would keep
+// all the voxel's triangles: coincident or spanning triangles) gives way to the next
+// candidate. A cut that leaves all triangles in one cell and the others empty is kept: it
+// is how a small cluster in large extents ("teapot in a stadium") gets isolated, and the
+// depth cap and the minimum cell width bound it on degenerate input.
+Grid1D::Cut Grid1D::plan_cut(uint32_t id) const {
+  Cut cut;
+  const Voxel& voxel = voxels_[id];
+  const Region& region = regions_[id];
+  if (voxel.tri_count < 2 || region.depth >= uint32_t(params_.max_depth)) return cut;
+  double lo[3], hi[3];
+  voxel_box(id, lo, hi);
+  VoxelFigures figures;
+  figures.triangles = voxel.tri_count;
+  for (int a = 0; a < 3; ++a) figures.extent[a] = hi[a] - lo[a];
+  for (uint32_t i = 0; i < voxel.tri_count; ++i) {
+    const float* box = &tri_box_[size_t(tri_indices_[voxel.tri_begin + i]) * 6];
+    for (int a = 0; a < 3; ++a)
+      figures.mean_size[a] +=
+          std::max(0.0, std::min<double>(box[a + 3], hi[a]) - std::max<double>(box[a], lo[a]));
+  }
+  for (double& size : figures.mean_size) size /= voxel.tri_count;
+  figures.rays = estimated_rays(id);
+  cut.rays = figures.rays;
+
+  std::vector<AxisPlan> plans;
+  for (int k = 0; k < 3; ++k) {
+    const int a = (int(region.depth) + k) % 3;
+    const double ulp = root_.magnitude * FLT_EPSILON;
+    const double thin_limit = ulp > 0.0 ? figures.extent[a] / (kMinCellUlps * ulp) : 0.0;
+    const double max_g = std::min({double(params_.max_granularity), std::floor(thin_limit),
+                                   double(kMaxAbsoluteGranularity / region.grid[a])});
+    if (max_g < 2.0) continue;
+    const AxisPlan plan = plan_axis(params_, figures, a, int(max_g));
+    if (params_.axis == AxisRule::alternate && plans.empty() && plan.granularity < 2) return cut;
+    if (plan.granularity >= 2) plans.push_back(plan);
+  }
+  if (params_.axis == AxisRule::cost) {
+    const auto whole = [&](const AxisPlan& p) {
+      return p.cut_total + figures.rays * along_axis_cost(params_, figures, p.axis);
+    };
+    std::stable_sort(plans.begin(), plans.end(),
+                     [&](const AxisPlan& x, const AxisPlan& y) { return whole(x) < whole(y); });
+  }
+  for (const AxisPlan& plan : plans)
+    if (sort_into_cells(id, plan.axis, plan.granularity, lo, hi, cut)) return cut;
+  return Cut{};
+}
+
+bool Grid1D::sort_into_cells(uint32_t id, int axis, int g, const double lo[3], const double hi[3],
+                             Cut& cut) const {
+  const Voxel& voxel = voxels_[id];
+  const Region& region = regions_[id];
+  const StateInfo& grid = states_[axis];  // the scene box on this axis
+  const uint64_t granularity = region.grid[axis] * uint64_t(g);
+  const CellLocator locate{grid.origin, double(granularity) / grid.extent,
+                           double(region.cell[axis] * uint64_t(g)), double(g - 1)};
+  const double pad = root_.padding;
+
+  std::vector<uint32_t> items(&tri_indices_[voxel.tri_begin],
+                              &tri_indices_[voxel.tri_begin] + voxel.tri_count);
+  std::vector<std::pair<int64_t, int64_t>> ranges(items.size());
+  bool separates = false;
+  for (size_t i = 0; i < items.size(); ++i) {
+    const float* box = &tri_box_[size_t(items[i]) * 6];
+    ranges[i] = {locate(std::max<double>(box[axis], lo[axis]) - pad),
+                 locate(std::min<double>(box[axis + 3], hi[axis]) + pad)};
+    separates |= ranges[i].first > 0 || ranges[i].second < g - 1;
+  }
+  if (!separates) return false;
+  cut.axis = axis;
+  cut.granularity = g;
+  fill_cells(ranges, items, g, cut.tri_offsets, cut.tris);
+
+  items.assign(&sample_indices_[region.sample_begin],
+               &sample_indices_[region.sample_begin] + region.sample_count);
+  ranges.clear();
+  std::vector<uint32_t> crossing;
+  for (const uint32_t j : items) {
+    const SampleRay& s = sample_[j];
+    double t0 = s.t0, t1 = s.t1;
+    if (!clip_segment(s.origin, s.dir, lo, hi, t0, t1)) continue;
+    const int64_t c0 = locate(s.origin[axis] + t0 * s.dir[axis]);
+    const int64_t c1 = locate(s.origin[axis] + t1 * s.dir[axis]);
+    ranges.emplace_back(std::min(c0, c1), std::max(c0, c1));
+    crossing.push_back(j);
+  }
+  fill_cells(ranges, crossing, g, cut.sample_offsets, cut.samples);
+  return true;
+}
+
+uint32_t Grid1D::state_for(uint32_t axis, uint64_t granularity) const {
+  const uint64_t key = granularity << 2 | axis;
+  const auto found = state_ids_.find(key);
+  if (found != state_ids_.end()) return found->second;
+  const uint32_t id = uint32_t(states_.append(1));
+  const double extent = root_.hi[axis] - root_.lo[axis];
+  states_[id] = {root_.lo[axis], extent, double(granularity) / extent, extent / double(granularity),
+                 granularity,    axis};
+  state_ids_.emplace(key, id);
+  return id;
+}
+
+// Publishes the cut's cells as new voxels. Runs under the build lock; the caller's release
+// store of kSplit makes all of it visible to the threads that then walk into the voxel.
+bool Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
+  std::lock_guard lock(build_mutex_);
+  const size_t g = size_t(cut.granularity);
+  const uint64_t bytes = g * (sizeof(Voxel) + sizeof(Region)) +
+                         (cut.tris.size() + cut.samples.size()) * sizeof(uint32_t);
+  if (bytes_used_ + bytes > params_.memory_budget || voxels_.size() + g >= size_t(kNone)) {
+    ++over_budget_;
+    return false;
+  }
+  const Region& parent = regions_[id];
+  const int axis = cut.axis;
+  const uint32_t state = state_for(uint32_t(axis), parent.grid[axis] * g);
+  const uint32_t first_child = uint32_t(voxels_.append(g));
+  regions_.append(g);
+  const size_t tri_base = tri_indices_.append(cut.tris.size());
+  const size_t sample_base = sample_indices_.append(cut.samples.size());
+  std::copy(cut.tris.begin(), cut.tris.end(), &tri_indices_[tri_base]);
+  std::copy(cut.samples.begin(), cut.samples.end(), &sample_indices_[sample_base]);
+
+  double parent_extent[3], child_extent[3];
+  double lo[3], hi[3];
+  voxel_box(id, lo, hi);
+  for (int a = 0; a < 3; ++a) parent_extent[a] = child_extent[a] = hi[a] - lo[a];
+  child_extent[axis] /= double(g);
+  const double parent_area = surface_area(parent_extent);
+  const double area_share = parent_area > 0.0 ? surface_area(child_extent) / parent_area : 1.0;
+  for (size_t i = 0; i < g; ++i) {
+    Voxel& child = voxels_[first_child + i];
+    child.tri_begin = uint32_t(tri_base + cut.tri_offsets[i]);
+    child.tri_count = cut.tri_offsets[i + 1] - cut.tri_offsets[i];
+    Region& region = regions_[first_child + i];
+    region = parent;
+    region.cell[axis] = parent.cell[axis] * g + i;
+    region.grid[axis] = parent.grid[axis] * g;
+    region.above[axis] = id;
+    region.depth = parent.depth + 1;
+    region.sample_begin = uint32_t(sample_base + cut.sample_offsets[i]);
+    region.sample_count = cut.sample_offsets[i + 1] - cut.sample_offsets[i];
+    region.area_rays = cut.rays * area_share;
+  }
+  Voxel& voxel = voxels_[id];
+  voxel.axis = uint8_t(axis);
+  voxel.granularity = uint16_t(g);
+  voxel.state = state;
+  voxel.first_child = first_child;
+  std::copy(parent.above, parent.above + 3, voxel.above);
+  voxel.first_cell = parent.cell[axis] * g;
+  bytes_used_ += bytes;
+  ++subdivided_;
+  return true;
+}
+
+StructureStats Grid1D::stats() const {
+  std::lock_guard lock(build_mutex_);
+  StructureStats s;
+  s.nodes = voxels_.size();
+  s.voxels_subdivided = subdivided_.load();
+  s.leaves = voxels_.size() - subdivided_.load();
+  s.traversal_states = states_.size();
+  s.memory_bytes = bytes_used_ + triangles_.size() * sizeof(TriangleVerts) +
+                   tri_box_.size() * sizeof(float) + sample_.size() * sizeof(SampleRay) +
+                   states_.size() * sizeof(StateInfo);
+  s.build_seconds = build_seconds_;
+  s.voxels_over_budget = over_budget_.load();
+  return s;
+}
+
+}  // namespace gs

@@ -1,1 +1,191 @@
-// placeholder: being written
+#include "core/render.h"
+
+#include <stb_image_write.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <glm/geometric.hpp>
+
+#include "core/error.h"
+#include "core/ray_io.h"
+
+namespace gs {
+
+namespace {
+
+constexpr glm::vec3 kAlbedo{0.85f, 0.80f, 0.72f};
+constexpr float kAmbient = 0.15f;
+
+// The point light and the scene's scale, fixed for one image.
+struct Lighting {
+  glm::vec3 light;
+  float offset_scale;  // shadow rays start this far (times the coordinates' size) off the surface
+};
+
+Lighting make_lighting(const Scene& scene, const Camera& camera) {
+  const Box box = scene.bounds();
+  const float size = box.empty() ? 1.0f : std::max(glm::length(box.hi - box.lo), 1e-6f);
+  // Above and behind the viewer, a little to the side, so that faces towards the camera are
+  // lit and shadows fall visibly down and away.
+  const glm::vec3 light = camera.eye - camera.forward() * (0.5f * size) + camera.true_up() * size +
+                          camera.right() * (0.3f * size);
+  return {light, size};
+}
+
+// lowbias32 (Wellons): a cheap integer hash with good avalanche, for per-pixel jitter.
+uint32_t hash(uint32_t x) {
+  x ^= x >> 16;
+  x *= 0x7feb352dU;
+  x ^= x >> 15;
+  x *= 0x846ca68bU;
+  x ^= x >> 16;
+  return x;
+}
+
+float unit_float(uint32_t bits) { return float(bits >> 8) * (1.0f / 16777216.0f); }
+
+float max_abs(const glm::vec3& p) {
+  return std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+}
+
+// Display-space colour of one primary ray; counts the rays it casts.
+glm::vec3 shade(const Scene& scene, const Accelerator& accel, ThreadContext& context,
+                const Ray& ray, const Lighting& lighting, uint64_t& rays) {
+  static const glm::vec3 background =
+      glm::vec3(kBackground[0], kBackground[1], kBackground[2]) / 255.0f;
+  ++rays;
+  const Hit hit = accel.intersect(ray, context);
+  if (!hit.found()) return background;
+  const uint32_t id = uint32_t(hit.id);
+  const glm::vec3 &a = scene.vertex(id, 0), &b = scene.vertex(id, 1), &c = scene.vertex(id, 2);
+  // The point from the barycentrics lies on the triangle, unlike origin + t * dir.
+  const glm::vec3 point = (1.0f - hit.u - hit.v) * a + hit.u * b + hit.v * c;
+  glm::vec3 normal = glm::normalize(glm::cross(b - a, c - a));
+  if (glm::dot(normal, ray.dir) > 0.0f) normal = -normal;  // two-sided: face the viewer
+  float lambert = glm::dot(normal, glm::normalize(lighting.light - point));
+  if (lambert > 0.0f) {
+    // Start off the surface on the lit side so the triangle cannot shadow itself.
+    Ray shadow;
+    shadow.origin = point + normal * (1e-4f * lighting.offset_scale + 1e-5f * max_abs(point));
+    shadow.dir = lighting.light - shadow.origin;
+    shadow.tmax = 1.0f;  // the light itself
+    ++rays;
+    if (accel.occluded(shadow, context)) lambert = 0.0f;
+  }
+  const glm::vec3 linear = kAlbedo * (kAmbient + (1.0f - kAmbient) * std::max(lambert, 0.0f));
+  return glm::pow(linear, glm::vec3(1.0f / 2.2f));
+}
+
+void shade_row(const Scene& scene, const Accelerator& accel, ThreadContext& context,
+               const Camera& camera, const RenderSettings& settings, const Lighting& lighting,
+               int py, uint8_t* row, uint64_t& rays) {
+  const int w = settings.width, h = settings.height, spp = settings.spp;
+  for (int px = 0; px < w; ++px) {
+    glm::vec3 sum(0.0f);
+    const uint32_t seed = hash(uint32_t(py) * uint32_t(w) + uint32_t(px));
+    for (int s = 0; s < spp; ++s) {
+      const float jx = spp == 1 ? 0.5f : unit_float(hash(seed ^ hash(2 * uint32_t(s))));
+      const float jy = spp == 1 ? 0.5f : unit_float(hash(seed ^ hash(2 * uint32_t(s) + 1)));
+      sum += shade(scene, accel, context, camera.primary_ray(px, py, w, h, jx, jy), lighting, rays);
+    }
+    const glm::vec3 colour = glm::clamp(sum / float(spp), 0.0f, 1.0f) * 255.0f + 0.5f;
+    for (int k = 0; k < 3; ++k) row[4 * px + k] = uint8_t(colour[k]);
+    row[4 * px + 3] = 255;
+  }
+}
+
+nlohmann::json render_parameters(const RenderJob& job, const Camera& camera) {
+  nlohmann::json parameters = job.params.to_json();
+  parameters["threads"] = job.settings.threads;
+  parameters["width"] = job.settings.width;
+  parameters["height"] = job.settings.height;
+  parameters["spp"] = job.settings.spp;
+  parameters["camera"] = to_string(camera);
+  return parameters;
+}
+
+}  // namespace
+
+void check_render_settings(const RenderSettings& settings) {
+  if (settings.width < 1 || settings.width > kMaxImageSide || settings.height < 1 ||
+      settings.height > kMaxImageSide)
+    throw UsageError("--size " + std::to_string(settings.width) + "x" +
+                     std::to_string(settings.height) + ": each side must be 1.." +
+                     std::to_string(kMaxImageSide));
+  if (settings.spp < 1 || settings.spp > kMaxSpp)
+    throw UsageError("--spp " + std::to_string(settings.spp) + ": must be 1.." +
+                     std::to_string(kMaxSpp));
+  check_thread_count(settings.threads);
+}
+
+void sample_image(Accelerator& accel, const Camera& camera, const RenderSettings& settings) {
+  constexpr int kBlock = 8;
+  const int w = settings.width, h = settings.height;
+  std::vector<Ray> rays;
+  for (int by = 0; by < h; by += kBlock)
+    for (int bx = 0; bx < w; bx += kBlock)
+      rays.push_back(camera.primary_ray(std::min(bx + kBlock / 2, w - 1),
+                                        std::min(by + kBlock / 2, h - 1), w, h));
+  accel.sample(rays, double(w) * double(h) * double(settings.spp));
+}
+
+RenderOutcome render_image(const Scene& scene, const Accelerator& accel, const Camera& camera,
+                           const RenderSettings& settings) {
+  RenderOutcome outcome;
+  Image& image = outcome.image;
+  image.width = settings.width;
+  image.height = settings.height;
+  image.rgba.resize(size_t(image.width) * size_t(image.height) * 4);
+  const Lighting lighting = make_lighting(scene, camera);
+  std::atomic<uint64_t> rays{0};
+  outcome.seconds = seconds_of([&] {
+    outcome.counters =
+        parallel_chunks(accel, size_t(image.height), 1, settings.threads,
+                        [&](ThreadContext& context, size_t begin, size_t end) {
+                          uint64_t row_rays = 0;
+                          for (size_t py = begin; py < end; ++py)
+                            shade_row(scene, accel, context, camera, settings, lighting, int(py),
+                                      &image.rgba[py * size_t(image.width) * 4], row_rays);
+                          rays.fetch_add(row_rays, std::memory_order_relaxed);
+                        });
+  });
+  outcome.rays = rays.load();
+  return outcome;
+}
+
+void write_png(const std::string& path, int width, int height, const std::vector<uint8_t>& rgba) {
+  // Encoded in memory and written by write_file, which checks the write and the close;
+  // stbi_write_png's own file output checks neither.
+  std::vector<char> png;
+  auto append = [](void* context, void* data, int size) {
+    auto* out = static_cast<std::vector<char>*>(context);
+    out->insert(out->end(), static_cast<char*>(data), static_cast<char*>(data) + size);
+  };
+  if (!stbi_write_png_to_func(append, &png, width, height, 4, rgba.data(), width * 4))
+    fail_input(path, "cannot encode PNG");
+  write_file(path, png);
+}
+
+nlohmann::json run_render(const RenderJob& job) {
+  check_render_settings(job.settings);
+  std::unique_ptr<Accelerator> accel = make_accelerator(job.accel, job.params);
+  const Scene scene = load_scene(job.scene);
+  const float aspect = float(job.settings.width) / float(job.settings.height);
+  const Camera camera = job.camera ? *job.camera : frame_box(scene.bounds(), aspect);
+
+  RunFigures figures;
+  figures.build_seconds = seconds_of([&] { accel->build(scene); }) +
+                          seconds_of([&] { sample_image(*accel, camera, job.settings); });
+  const RenderOutcome outcome = render_image(scene, *accel, camera, job.settings);
+  figures.rays = outcome.rays;
+  figures.trace_seconds = outcome.seconds;
+  figures.counters = outcome.counters;
+  write_png(job.out_path, outcome.image.width, outcome.image.height, outcome.image.rgba);
+
+  nlohmann::json stats = run_stats(scene, *accel, render_parameters(job, camera), figures);
+  if (!job.stats_path.empty()) write_json(job.stats_path, stats);
+  return stats;
+}
+
+}  // namespace gs

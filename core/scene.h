@@ -56,4 +56,30 @@ void export_obj(const Scene& scene, const std::string& path);
 void triangulate_polygon(const std::vector<glm::vec3>& vertices,
                          const std::vector<uint32_t>& polygon, std::vector<glm::uvec3>& out);
 
+// Where each part of a built-in scene lies in its triangle-id sequence, so that tests, the
+// bench and the viewer can tell the parts apart without guessing from geometry. Spheres
+// (sphereflake) carry the centre and radius they were tessellated from; `detail` marks the
+// small, dense cluster of "lumpy" (the teapot in the stadium).
+struct ScenePart {
+  std::string label;
+  uint32_t first_triangle = 0;
+  uint32_t triangle_count = 0;
+  bool detail = false;
+  glm::dvec3 center{0.0};
+  double radius = 0.0;
+};
+// Parts of built-in scene NAME in id order (they cover every triangle once).
+std::vector<ScenePart> builtin_scene_parts(const std::string& name);
+
+namespace detail {
+// Reads a whole scene file into memory, inflating it when it starts with the gzip magic.
+// Throws InputError naming `path` for a missing file, a directory, a read error, corrupt
+// gzip data or more than `limit` bytes (the limit bounds what a gzip bomb can allocate).
+std::string read_scene_file(const std::string& path, uint64_t limit = uint64_t{4} << 30);
+// Parses a whole token [first, last) as a float with correct rounding (std::from_chars).
+// Accepts a leading '+', "nan" and "inf"; an out-of-range magnitude becomes +-inf or 0
+// as strtod would give. Returns false when the token is not a number.
+bool parse_float(const char* first, const char* last, float& out);
+}  // namespace detail
+
 }  // namespace gs

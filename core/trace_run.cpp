@@ -1,1 +1,156 @@
-// placeholder: being written
+#include "core/trace_run.h"
+
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <thread>
+
+#include "core/error.h"
+#include "core/ray_io.h"
+
+namespace gs {
+
+namespace {
+
+// Big enough that taking a chunk costs nothing next to tracing it, small enough that
+// threads finish together when some rays are much slower than others.
+constexpr size_t kRayChunk = 1024;
+
+nlohmann::json optional_json(const std::optional<uint64_t>& value) {
+  return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
+}
+
+// A regular subset of the run's rays (DESIGN.md §1 "Cost function"): indices 0, k, 2k, ...
+std::vector<Ray> sample_subset(const std::vector<Ray>& rays, int every) {
+  std::vector<Ray> subset;
+  subset.reserve(rays.size() / size_t(every) + 1);
+  for (size_t i = 0; i < rays.size(); i += size_t(every)) subset.push_back(rays[i]);
+  return subset;
+}
+
+nlohmann::json trace_parameters(const TraceJob& job) {
+  nlohmann::json parameters = job.params.to_json();
+  parameters["threads"] = job.threads;
+  parameters["eager"] = job.eager;
+  parameters["occluded"] = job.occluded;
+  return parameters;
+}
+
+// Builds, samples and (with --eager) builds everything; returns the seconds spent.
+double prepare(Accelerator& accel, const Scene& scene, const std::vector<Ray>& rays,
+               const TraceJob& job) {
+  double seconds = seconds_of([&] { accel.build(scene); });
+  // With no rays there is nothing to sample, and a count of zero rays would mean nothing.
+  if (!rays.empty()) {
+    const std::vector<Ray> subset = sample_subset(rays, job.params.sample_every);
+    seconds += seconds_of([&] { accel.sample(subset, double(rays.size())); });
+  }
+  if (job.eager) seconds += seconds_of([&] { accel.build_all(); });
+  return seconds;
+}
+
+}  // namespace
+
+int default_thread_count() {
+  return int(std::clamp(std::thread::hardware_concurrency(), 1u, unsigned(kMaxThreads)));
+}
+
+void check_thread_count(int threads) {
+  if (threads < 1 || threads > kMaxThreads)
+    throw UsageError("--threads " + std::to_string(threads) + ": must be between 1 and " +
+                     std::to_string(kMaxThreads));
+}
+
+TraceCounters parallel_chunks(const Accelerator& accel, size_t count, size_t chunk, int threads,
+                              const ChunkBody& body) {
+  const size_t chunks = (count + chunk - 1) / chunk;
+  const size_t workers = std::min(size_t(std::max(threads, 1)), chunks);
+  std::vector<std::unique_ptr<ThreadContext>> contexts;
+  for (size_t w = 0; w < workers; ++w) contexts.push_back(accel.make_context());
+  std::vector<std::exception_ptr> errors(workers);
+  std::atomic<size_t> next{0};
+  auto work = [&](size_t worker) {
+    try {
+      for (size_t c; (c = next.fetch_add(1, std::memory_order_relaxed)) < chunks;)
+        body(*contexts[worker], c * chunk, std::min(count, (c + 1) * chunk));
+    } catch (...) {
+      errors[worker] = std::current_exception();
+      next.store(chunks);  // the others stop after their current chunk
+    }
+  };
+  {
+    // jthreads join on destruction, also when starting one of them throws.
+    std::vector<std::jthread> pool;
+    for (size_t w = 1; w < workers; ++w) pool.emplace_back(work, w);
+    if (workers > 0) work(0);
+  }
+  TraceCounters merged;
+  for (size_t w = 0; w < workers; ++w) {
+    if (errors[w]) std::rethrow_exception(errors[w]);
+    merged.add(contexts[w]->counters);
+  }
+  return merged;
+}
+
+nlohmann::json run_trace(const TraceJob& job) {
+  check_thread_count(job.threads);
+  std::unique_ptr<Accelerator> accel = make_accelerator(job.accel, job.params);
+  const Scene scene = load_scene(job.scene);
+  const std::vector<Ray> rays = read_rays(job.rays_path);
+
+  RunFigures figures;
+  figures.rays = rays.size();
+  figures.build_seconds = prepare(*accel, scene, rays, job);
+  std::vector<Hit> hits(rays.size());
+  figures.trace_seconds = seconds_of([&] {
+    figures.counters = parallel_chunks(*accel, rays.size(), kRayChunk, job.threads,
+                                       [&](ThreadContext& context, size_t begin, size_t end) {
+                                         for (size_t i = begin; i < end; ++i)
+                                           hits[i] = job.occluded
+                                                         ? accel->any_hit(rays[i], context)
+                                                         : accel->intersect(rays[i], context);
+                                       });
+  });
+  write_hits(job.out_path, hits);
+
+  nlohmann::json stats = run_stats(scene, *accel, trace_parameters(job), figures);
+  if (!job.stats_path.empty()) write_json(job.stats_path, stats);
+  return stats;
+}
+
+nlohmann::json run_stats(const Scene& scene, const Accelerator& accel, nlohmann::json parameters,
+                         const RunFigures& figures) {
+  const StructureStats structure = accel.stats();
+  const TraceCounters& counters = figures.counters;
+  nlohmann::json stats;
+  stats["accel"] = accel.name();
+  stats["parameters"] = std::move(parameters);
+  stats["scene"] = scene.name;
+  stats["triangles"] = scene.triangle_count();
+  stats["degenerate_triangles"] = scene.degenerate_count();
+  stats["rays"] = figures.rays;
+  stats["build_seconds"] = figures.build_seconds + counters.lazy_build_seconds;
+  stats["lazy_build_seconds"] = counters.lazy_build_seconds;
+  stats["trace_seconds"] = figures.trace_seconds;
+  stats["rays_per_second"] =
+      figures.trace_seconds > 0.0 ? double(figures.rays) / figures.trace_seconds : 0.0;
+  stats["nodes"] = optional_json(structure.nodes);
+  stats["voxels_subdivided"] = optional_json(structure.voxels_subdivided);
+  stats["leaves"] = optional_json(structure.leaves);
+  stats["traversal_states"] = optional_json(structure.traversal_states);
+  stats["intersection_tests"] = counters.intersection_tests;
+  stats["mailbox_rejections"] = counters.mailbox_rejections;
+  stats["traversal_steps"] = counters.traversal_steps;
+  stats["memory_bytes"] = structure.memory_bytes;
+  stats["voxels_over_budget"] = structure.voxels_over_budget;
+  return stats;
+}
+
+void write_json(const std::string& path, const nlohmann::json& json) {
+  // Paths in the record need not be UTF-8; replace what is not instead of failing.
+  const std::string text =
+      json.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+  write_file(path, text);
+}
+
+}  // namespace gs

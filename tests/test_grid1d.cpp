@@ -1,1 +1,188 @@
+// grid1d must give exactly brute's answers (same id, same t, same u, v) on every ray, for
+// every preset of its parameters, lazy or eager, with one thread or two.
 #include <gtest/gtest.h>
+
+#include <map>
+#include <memory>
+#include <set>
+
+#include "core/brute.h"
+#include "core/grid1d.h"
+#include "tests/test_util.h"
+
+namespace gs {
+namespace {
+
+struct Case {
+  std::string name;
+  Scene scene;
+  std::vector<Ray> rays;
+  std::vector<Hit> expected;  // brute's answers
+};
+
+Scene stadium() {
+  // Dense detail in a small region, sparse big triangles around it, 1000x larger.
+  Scene detail = test::make_soup(7, 2500, glm::vec3(-1), glm::vec3(1), 0.05f);
+  Scene ground;
+  ground.vertices = {{-1000, -2, -1000}, {1000, -2, -1000},  {1000, -2, 1000},
+                     {-1000, -2, 1000},  {-1000, 500, 1000}, {1000, 500, 1000}};
+  ground.triangles = {{0, 1, 2}, {0, 2, 3}, {3, 2, 5}, {3, 5, 4}};
+  return test::merge(test::merge(test::make_sphere({0, 0, 0}, 0.5f, 16, 32), detail), ground);
+}
+
+Scene wall_planes() {
+  // Quads lying exactly in planes x = k/8 and y = k/8 of a unit box: on the walls of the
+  // cells a power-of-two cut makes, where rays hit them exactly.
+  Scene scene;
+  for (int k = 0; k <= 8; ++k) {
+    const float c = k / 8.0f;
+    const uint32_t b = uint32_t(scene.vertices.size());
+    scene.vertices.insert(scene.vertices.end(), {{c, 0.1f, 0.1f},
+                                                 {c, 0.9f, 0.1f},
+                                                 {c, 0.9f, 0.6f},
+                                                 {0.1f, c, 0.5f},
+                                                 {0.9f, c, 0.5f},
+                                                 {0.9f, c, 0.9f}});
+    scene.triangles.emplace_back(b, b + 1, b + 2);
+    scene.triangles.emplace_back(b + 3, b + 4, b + 5);
+  }
+  return test::merge(scene, test::make_soup(3, 500, glm::vec3(0), glm::vec3(1), 0.04f));
+}
+
+std::vector<Case>& cases() {
+  static std::vector<Case> all = [] {
+    std::vector<std::pair<std::string, Scene>> scenes;
+    scenes.emplace_back("pyramid", make_builtin_scene("pyramid"));
+    scenes.emplace_back(
+        "sphere+soup",
+        test::merge(test::make_sphere({0.3f, -0.2f, 0.1f}, 1.0f, 24, 48),
+                    test::make_soup(11, 1500, glm::vec3(-1.5f), glm::vec3(1.5f), 0.1f)));
+    scenes.emplace_back("stadium", stadium());
+    scenes.emplace_back("wall planes", wall_planes());
+    std::vector<Case> out;
+    BruteForce brute;
+    for (auto& [name, scene] : scenes) {
+      Case c{name, scene, {}, {}};
+      const Box box = scene.bounds();
+      for (const auto& set :
+           {test::camera_rays(box, 110, 100), test::random_chords(box, 1, 10000),
+            test::axis_parallel_rays(box, 2, 6000), test::edge_and_vertex_rays(scene, 3, 6000)})
+        c.rays.insert(c.rays.end(), set.begin(), set.end());
+      BruteForce reference;
+      reference.build(c.scene);
+      c.expected = test::trace_all(reference, c.rays, 2);
+      out.push_back(std::move(c));
+    }
+    return out;
+  }();
+  return all;
+}
+
+struct Preset {
+  int max_granularity;
+  AxisRule axis;
+  bool eager;
+  int threads;
+};
+
+std::string preset_name(const testing::TestParamInfo<Preset>& info) {
+  const Preset& p = info.param;
+  return "g" + std::to_string(p.max_granularity) +
+         (p.axis == AxisRule::alternate ? "_alternate" : "_cost") + (p.eager ? "_eager" : "_lazy") +
+         "_t" + std::to_string(p.threads);
+}
+
+class Grid1DMatchesBrute : public testing::TestWithParam<Preset> {};
+
+TEST_P(Grid1DMatchesBrute, SameIdAndTOnEveryRay) {
+  const Preset& preset = GetParam();
+  size_t checked = 0;
+  for (const Case& c : cases()) {
+    AccelParams params;
+    params.max_granularity = preset.max_granularity;
+    params.axis = preset.axis;
+    Grid1D grid(params);
+    grid.build(c.scene);
+    // Half the presets run the sampling pass first, as the command line does.
+    if (preset.threads == 2) test::run_sampling_pass(grid, c.rays, 64);
+    if (preset.eager) grid.build_all();
+    const std::vector<Hit> hits = test::trace_all(grid, c.rays, preset.threads);
+    size_t mismatches = 0;
+    for (size_t i = 0; i < hits.size(); ++i) {
+      if (hits[i] == c.expected[i]) continue;
+      if (++mismatches <= 5)
+        ADD_FAILURE() << c.name << " ray " << i << ": grid1d id " << hits[i].id << " t "
+                      << hits[i].t << ", brute id " << c.expected[i].id << " t " << c.expected[i].t;
+    }
+    EXPECT_EQ(mismatches, 0u) << c.name;
+    const StructureStats stats = grid.stats();
+    EXPECT_GT(*stats.voxels_subdivided, 0u) << c.name << ": the grid never subdivided";
+    checked += hits.size();
+  }
+  RecordProperty("rays_checked", int(checked));
+}
+
+TEST_P(Grid1DMatchesBrute, AnyHitAgreesWithNearestHit) {
+  const Preset& preset = GetParam();
+  for (const Case& c : cases()) {
+    AccelParams params;
+    params.max_granularity = preset.max_granularity;
+    params.axis = preset.axis;
+    Grid1D grid(params);
+    grid.build(c.scene);
+    if (preset.eager) grid.build_all();
+    const std::vector<Hit> hits = test::trace_all(grid, c.rays, preset.threads, true);
+    size_t mismatches = 0;
+    for (size_t i = 0; i < hits.size(); ++i) {
+      const bool ok =
+          hits[i].found() == c.expected[i].found() &&
+          (!hits[i].found() || (hits[i].t > c.rays[i].tmin && hits[i].t <= c.rays[i].tmax &&
+                                hits[i].t >= c.expected[i].t));
+      mismatches += !ok;
+    }
+    EXPECT_EQ(mismatches, 0u) << c.name;
+  }
+}
+
+std::vector<Preset> presets() {
+  std::vector<Preset> out;
+  for (int g : {2, 20, 64})
+    for (AxisRule axis : {AxisRule::alternate, AxisRule::cost})
+      for (bool eager : {false, true})
+        for (int threads : {1, 2}) out.push_back({g, axis, eager, threads});
+  return out;
+}
+
+INSTANTIATE_TEST_SUITE_P(Presets, Grid1DMatchesBrute, testing::ValuesIn(presets()), preset_name);
+
+// One lazily built structure traced by two threads at once builds the same voxels as one
+// thread and as the eager build (cuts depend on the voxel and the sample, not on timing).
+TEST(Grid1DBuild, LazyTwoThreadsBuildTheSameVoxelsAsEager) {
+  const Case& c = cases()[1];
+  AccelParams params;
+  Grid1D lazy(params), eager(params);
+  lazy.build(c.scene);
+  eager.build(c.scene);
+  test::run_sampling_pass(lazy, c.rays, 64);
+  test::run_sampling_pass(eager, c.rays, 64);
+  eager.build_all();
+  test::trace_all(lazy, c.rays, 2);
+  lazy.build_all();
+  ASSERT_EQ(lazy.voxel_count(), eager.voxel_count());
+  ASSERT_EQ(lazy.state_count(), eager.state_count());
+  // Same set of cut voxels, identified by their boxes.
+  std::multiset<std::vector<double>> lazy_cuts, eager_cuts;
+  for (const auto* grid : {&lazy, &eager})
+    for (uint32_t id = 0; id < grid->voxel_count(); ++id) {
+      if (grid->voxel(id).status.load() != Grid1D::kSplit) continue;
+      double lo[3], hi[3];
+      grid->voxel_box(id, lo, hi);
+      (grid == &lazy ? lazy_cuts : eager_cuts)
+          .insert({lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], double(grid->voxel(id).axis),
+                   double(grid->voxel(id).granularity)});
+    }
+  EXPECT_EQ(lazy_cuts, eager_cuts);
+}
+
+}  // namespace
+}  // namespace gs

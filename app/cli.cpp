@@ -1,0 +1,264 @@
+#include "app/cli.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <limits>
+#include <optional>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/error.h"
+#include "core/render.h"
+#include "core/scene.h"
+#include "core/trace_run.h"
+
+namespace gs::app {
+
+namespace {
+
+constexpr const char* kUsage = R"(usage: gridscope COMMAND ...
+
+  gridscope trace  SCENE --rays FILE --out FILE [--accel NAME] [--threads N]
+                   [--stats FILE.json] [--eager] [--occluded] [STRUCTURE FLAGS]
+  gridscope render SCENE --out FILE.png [--size WxH] [--camera STRING] [--spp N]
+                   [--accel NAME] [--threads N] [--stats FILE.json] [STRUCTURE FLAGS]
+  gridscope export SCENE --out FILE.obj
+  gridscope help
+
+SCENE is an .obj or .ply file (.gz too) or builtin:NAME (pyramid, lumpy, sphereflake).
+--camera takes "eye=X,Y,Z;target=X,Y,Z;up=X,Y,Z;fov=DEG" (vertical fov in degrees).
+Structure flags (the paper's cost constants and limits):
+  --intcost --repcost --travcost --vertcost --subcost X   finite, >= 0
+  --max-granularity N (1..4096)   --axis alternate|cost   --max-depth N (1..64)
+  --sample-every N (>= 1)         --memory-budget BYTES (suffix K, M or G allowed)
+Exit status: 0 success, 1 bad input or failed run, 2 usage error.
+Not in this build yet: view, shot, bench, calibrate.
+)";
+
+// A flag and what it does to the job being assembled; `apply` gets "" for a switch.
+struct Flag {
+  std::string name;
+  bool takes_value;
+  std::function<void(const std::string&)> apply;
+};
+using Flags = std::vector<Flag>;
+
+[[noreturn]] void bad_value(const std::string& flag, const std::string& text,
+                            const std::string& expected) {
+  throw UsageError(flag + " '" + text + "': expected " + expected);
+}
+
+// The whole text as an integer, or nothing.
+std::optional<long long> to_integer(const std::string& text) {
+  long long value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size()) return std::nullopt;
+  return value;
+}
+
+int parse_int(const std::string& flag, const std::string& text, int lo, int hi) {
+  const std::optional<long long> value = to_integer(text);
+  if (!value || *value < lo || *value > hi)
+    bad_value(flag, text, "an integer in " + std::to_string(lo) + ".." + std::to_string(hi));
+  return int(*value);
+}
+
+double parse_cost(const std::string& flag, const std::string& text) {
+  double value = 0.0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size() || !std::isfinite(value) ||
+      value < 0.0)
+    bad_value(flag, text, "a finite number >= 0");
+  return value;
+}
+
+// BYTES with an optional binary suffix K, M or G.
+uint64_t parse_bytes(const std::string& flag, const std::string& text) {
+  const std::string suffixes = "KMG";
+  const size_t suffix = text.empty() ? std::string::npos : suffixes.find(text.back());
+  const int shift = suffix == std::string::npos ? 0 : 10 * int(suffix + 1);
+  const std::optional<long long> value = to_integer(shift ? text.substr(0, text.size() - 1) : text);
+  if (!value || *value < 0 || *value > std::numeric_limits<long long>::max() >> shift)
+    bad_value(flag, text, "a byte count, optionally with suffix K, M or G");
+  return uint64_t(*value) << shift;
+}
+
+// WxH, each side 1..kMaxImageSide.
+void parse_size(const std::string& text, RenderSettings& settings) {
+  const size_t x = text.find('x');
+  const auto side = [&](const std::string& part) {
+    const std::optional<long long> value = to_integer(part);
+    if (x == std::string::npos || !value || *value < 1 || *value > kMaxImageSide)
+      bad_value("--size", text, "WxH with each side 1.." + std::to_string(kMaxImageSide));
+    return int(*value);
+  };
+  settings.width = side(text.substr(0, x));
+  settings.height = side(x == std::string::npos ? "" : text.substr(x + 1));
+}
+
+AxisRule parse_axis(const std::string& text) {
+  if (text == "alternate") return AxisRule::alternate;
+  if (text == "cost") return AxisRule::cost;
+  bad_value("--axis", text, "alternate or cost");
+}
+
+Flags structure_flags(AccelParams& p) {
+  auto cost = [](const char* name, double& field) {
+    return Flag{name, true, [name, &field](const std::string& v) { field = parse_cost(name, v); }};
+  };
+  return {
+      cost("--intcost", p.intcost),
+      cost("--repcost", p.repcost),
+      cost("--travcost", p.travcost),
+      cost("--vertcost", p.vertcost),
+      cost("--subcost", p.subcost),
+      {"--max-granularity", true,
+       [&p](const std::string& v) {
+         p.max_granularity = parse_int("--max-granularity", v, 1, 4096);
+       }},
+      {"--axis", true, [&p](const std::string& v) { p.axis = parse_axis(v); }},
+      {"--max-depth", true,
+       [&p](const std::string& v) { p.max_depth = parse_int("--max-depth", v, 1, 64); }},
+      {"--sample-every", true,
+       [&p](const std::string& v) {
+         p.sample_every = parse_int("--sample-every", v, 1, std::numeric_limits<int>::max());
+       }},
+      {"--memory-budget", true,
+       [&p](const std::string& v) { p.memory_budget = parse_bytes("--memory-budget", v); }},
+  };
+}
+
+Flag string_flag(const char* name, std::string& field) {
+  return {name, true, [&field](const std::string& v) { field = v; }};
+}
+
+Flag threads_flag(int& threads) {
+  return {"--threads", true, [&threads](const std::string& v) {
+            threads = parse_int("--threads", v, 1, kMaxThreads);
+          }};
+}
+
+Flag not_yet_flag(const std::string& command, const char* name) {
+  return {name, true, [command, name](const std::string&) {
+            throw UsageError(command + " " + name + " is not available in this build yet");
+          }};
+}
+
+// Applies the flags met in words (--name VALUE, --name=VALUE or a --switch, in any order)
+// and returns the positional words. Any word starting with '-' is a flag, so a value that
+// starts with '-' must follow its flag.
+std::vector<std::string> parse_words(const std::string& command, std::span<const std::string> words,
+                                     const Flags& flags) {
+  std::vector<std::string> positionals;
+  for (size_t i = 0; i < words.size(); ++i) {
+    const std::string& word = words[i];
+    if (word.size() < 2 || word[0] != '-') {
+      positionals.push_back(word);
+      continue;
+    }
+    const size_t equals = word.find('=');
+    const std::string name = word.substr(0, equals);
+    const auto flag =
+        std::find_if(flags.begin(), flags.end(), [&](const Flag& f) { return f.name == name; });
+    if (flag == flags.end()) throw UsageError("unknown flag '" + name + "' for " + command);
+    if (!flag->takes_value) {
+      if (equals != std::string::npos) throw UsageError(name + " takes no value");
+      flag->apply("");
+    } else if (equals != std::string::npos) {
+      flag->apply(word.substr(equals + 1));
+    } else if (i + 1 < words.size()) {
+      flag->apply(words[++i]);
+    } else {
+      throw UsageError(name + " needs a value");
+    }
+  }
+  return positionals;
+}
+
+// Exactly one positional, the scene.
+std::string scene_argument(const std::string& command, const std::vector<std::string>& words) {
+  if (words.size() != 1)
+    throw UsageError(command + " takes one SCENE argument, got " + std::to_string(words.size()));
+  return words[0];
+}
+
+void require(const std::string& command, const char* flag, const std::string& value) {
+  if (value.empty()) throw UsageError(command + " needs " + flag);
+}
+
+int trace_command(std::span<const std::string> words) {
+  TraceJob job;
+  Flags flags = structure_flags(job.params);
+  flags.insert(flags.end(),
+               {string_flag("--rays", job.rays_path),
+                string_flag("--out", job.out_path),
+                string_flag("--accel", job.accel),
+                string_flag("--stats", job.stats_path),
+                threads_flag(job.threads),
+                {"--eager", false, [&job](const std::string&) { job.eager = true; }},
+                {"--occluded", false, [&job](const std::string&) { job.occluded = true; }},
+                not_yet_flag("trace", "--walk"),
+                not_yet_flag("trace", "--walk-out")});
+  job.scene = scene_argument("trace", parse_words("trace", words, flags));
+  require("trace", "--rays FILE", job.rays_path);
+  require("trace", "--out FILE", job.out_path);
+  run_trace(job);
+  return 0;
+}
+
+int render_command(std::span<const std::string> words) {
+  RenderJob job;
+  Flags flags = structure_flags(job.params);
+  flags.insert(flags.end(),
+               {string_flag("--out", job.out_path),
+                string_flag("--accel", job.accel),
+                string_flag("--stats", job.stats_path),
+                threads_flag(job.settings.threads),
+                {"--size", true, [&job](const std::string& v) { parse_size(v, job.settings); }},
+                {"--camera", true, [&job](const std::string& v) { job.camera = parse_camera(v); }},
+                {"--spp", true, [&job](const std::string& v) {
+                   job.settings.spp = parse_int("--spp", v, 1, kMaxSpp);
+                 }}});
+  job.scene = scene_argument("render", parse_words("render", words, flags));
+  require("render", "--out FILE.png", job.out_path);
+  run_render(job);
+  std::printf("%s\n", job.out_path.c_str());
+  return 0;
+}
+
+int export_command(std::span<const std::string> words) {
+  std::string out;
+  const Flags flags = {string_flag("--out", out)};
+  const std::string scene = scene_argument("export", parse_words("export", words, flags));
+  require("export", "--out FILE.obj", out);
+  export_obj(load_scene(scene), out);
+  return 0;
+}
+
+bool asks_for_help(std::span<const std::string> args) {
+  return args[0] == "help" || args[0] == "-h" ||
+         std::find(args.begin(), args.end(), "--help") != args.end();
+}
+
+}  // namespace
+
+int run_cli(std::span<const std::string> args) {
+  if (args.empty()) throw UsageError("no command given (try 'gridscope help')");
+  if (asks_for_help(args)) {
+    std::fputs(kUsage, stdout);
+    return 0;
+  }
+  const std::string& command = args[0];
+  const auto rest = args.subspan(1);
+  if (command == "trace") return trace_command(rest);
+  if (command == "render") return render_command(rest);
+  if (command == "export") return export_command(rest);
+  if (command == "view" || command == "shot" || command == "bench" || command == "calibrate")
+    throw UsageError("'" + command + "' is not available in this build yet");
+  throw UsageError("unknown command '" + command + "'");
+}
+
+}  // namespace gs::app

@@ -1,0 +1,37 @@
+// The reference every test compares with: every ray against every triangle, through the same
+// float kernel the structures use, so that answers can be compared bit for bit.
+#pragma once
+#include <vector>
+
+#include "core/accelerator.h"
+#include "core/geometry.h"
+
+namespace gs {
+
+class BruteForce final : public Accelerator {
+ public:
+  std::string name() const override { return "brute"; }
+  void build(const Scene& scene) override;
+  Box bounds() const override { return bounds_; }
+  std::unique_ptr<ThreadContext> make_context() const override;
+  Hit intersect(const Ray& ray, ThreadContext& context) const override;
+  Hit any_hit(const Ray& ray, ThreadContext& context) const override;
+  StructureStats stats() const override;
+
+ private:
+  template <bool AnyHit>
+  Hit trace(const Ray& ray, ThreadContext& context) const;
+
+  std::vector<TriangleVerts> triangles_;
+  std::vector<uint32_t> usable_;  // ids of the non-degenerate triangles
+  Box bounds_;
+  ClipBox clip_box_;
+  double build_seconds_ = 0.0;
+};
+
+// The same search in double precision (the kernel instantiated for double): checks the
+// float kernel itself. Returns the nearest hit as the double kernel sees it.
+Hit brute_force_double(const std::vector<TriangleVerts>& triangles, const ClipBox& box,
+                       const Ray& ray);
+
+}  // namespace gs

@@ -1,0 +1,77 @@
+// The CPU renderer behind `gridscope render` (and the viewer's image): one primary ray per
+// sample, Lambert shading from the geometric normal with one shadow ray toward a point
+// light above and behind the camera, an ambient term, a constant background.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/accelerator.h"
+#include "core/camera.h"
+#include "core/scene.h"
+#include "core/trace_run.h"
+
+namespace gs {
+
+// Dark grey-blue, 8-bit RGB exactly as written for pixels whose rays all miss.
+constexpr std::array<uint8_t, 3> kBackground = {28, 32, 44};
+
+constexpr int kMaxImageSide = 16384;
+constexpr int kMaxSpp = 65536;
+
+struct RenderSettings {
+  int width = 640;
+  int height = 480;
+  // 1: one ray through each pixel centre; more: jittered with a fixed per-pixel/sample hash,
+  // so that every run gives the same image.
+  int spp = 1;
+  int threads = default_thread_count();
+};
+
+// Throws UsageError unless the size is 1..kMaxImageSide per side, spp 1..kMaxSpp and the
+// thread count is valid.
+void check_render_settings(const RenderSettings& settings);
+
+struct Image {
+  int width = 0;
+  int height = 0;
+  std::vector<uint8_t> rgba;  // row-major from the top-left pixel, 4 bytes per pixel
+};
+
+struct RenderOutcome {
+  Image image;
+  uint64_t rays = 0;  // primary plus shadow rays
+  double seconds = 0.0;
+  TraceCounters counters;
+};
+
+// The paper's sampling pass for an image (DESIGN.md §1 "Cost function"): the primary ray of
+// one pixel in every 8x8 block, standing for all width * height * spp primary rays.
+void sample_image(Accelerator& accel, const Camera& camera, const RenderSettings& settings);
+
+// Renders with an accelerator already built over `scene`, rows spread over the threads.
+RenderOutcome render_image(const Scene& scene, const Accelerator& accel, const Camera& camera,
+                           const RenderSettings& settings);
+
+// Throws InputError naming the path when the PNG cannot be written.
+void write_png(const std::string& path, int width, int height, const std::vector<uint8_t>& rgba);
+
+struct RenderJob {
+  std::string scene;
+  std::string out_path;    // PNG
+  std::string stats_path;  // stats JSON; empty for none
+  std::string accel = "grid1d";
+  AccelParams params;
+  RenderSettings settings;
+  std::optional<Camera> camera;  // default: frame_box of the scene
+};
+
+// The `render` command: makes the accelerator (usage errors first), loads the scene, builds,
+// samples, renders, writes the PNG and, if asked, the stats (the keys of trace's, with rays
+// = primary + shadow rays). Returns the stats.
+nlohmann::json run_render(const RenderJob& job);
+
+}  // namespace gs

@@ -1,0 +1,52 @@
+// An array whose elements never move: address space for the largest size it may reach is
+// reserved once (virtual memory, committed page by page as it is touched), so threads can
+// read elements while another thread appends (DESIGN.md §1 "Laziness": storage that grows
+// while other threads read it must not move). std::vector reallocates; std::deque's index
+// arithmetic costs an indirection on every read of the hot traversal arrays; hence our own.
+#pragma once
+#include <sys/mman.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <new>
+#include <type_traits>
+
+namespace gs {
+
+template <class T>
+class StableArray {
+ public:
+  explicit StableArray(size_t max_bytes) : capacity_(max_bytes / sizeof(T)) {
+    static_assert(std::is_trivially_destructible_v<T>);
+    if (capacity_ == 0) return;
+    void* p = ::mmap(nullptr, capacity_ * sizeof(T), PROT_READ | PROT_WRITE,
+                     MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+    if (p == MAP_FAILED) throw std::bad_alloc();
+    data_ = static_cast<T*>(p);
+  }
+  ~StableArray() {
+    if (data_) ::munmap(data_, capacity_ * sizeof(T));
+  }
+  StableArray(const StableArray&) = delete;
+  StableArray& operator=(const StableArray&) = delete;
+
+  T& operator[](size_t i) { return data_[i]; }
+  const T& operator[](size_t i) const { return data_[i]; }
+  size_t size() const { return size_; }
+  // Appends n value-initialised elements and returns the first one's index, or SIZE_MAX
+  // when the reservation is full. Not thread-safe: callers serialise appends.
+  size_t append(size_t n) {
+    if (n > capacity_ - size_) return SIZE_MAX;
+    const size_t first = size_;
+    for (size_t i = 0; i < n; ++i) new (&data_[first + i]) T();
+    size_ += n;
+    return first;
+  }
+
+ private:
+  T* data_ = nullptr;
+  size_t capacity_ = 0;
+  size_t size_ = 0;
+};
+
+}  // namespace gs
