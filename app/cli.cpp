@@ -11,6 +11,7 @@
 
 #include "core/camera.h"
 #include "core/error.h"
+#include "core/ray_io.h"
 #include "core/render.h"
 #include "core/scene.h"
 #include "core/trace_run.h"
@@ -26,6 +27,7 @@ constexpr const char* kUsage = R"(usage: gridscope COMMAND ...
   gridscope render SCENE --out FILE.png [--size WxH] [--camera STRING] [--spp N]
                    [--accel NAME] [--threads N] [--stats FILE.json] [STRUCTURE FLAGS]
   gridscope export SCENE --out FILE.obj
+  gridscope rays   SCENE --out FILE.rays [--size WxH] [--camera STRING]
   gridscope help
 
 SCENE is an .obj or .ply file (.gz too) or builtin:NAME (pyramid, lumpy, sphereflake).
@@ -238,6 +240,29 @@ int export_command(std::span<const std::string> words) {
   return 0;
 }
 
+// The primary rays `render --spp 1` shoots (pixel centres, rows from the top-left pixel),
+// as a ray file for `trace`: so a trace can be checked against, or timed like, a render.
+int rays_command(std::span<const std::string> words) {
+  std::string out;
+  RenderSettings settings;
+  std::optional<Camera> camera;
+  const Flags flags = {
+      string_flag("--out", out),
+      {"--size", true, [&settings](const std::string& v) { parse_size(v, settings); }},
+      {"--camera", true, [&camera](const std::string& v) { camera = parse_camera(v); }}};
+  const std::string scene = scene_argument("rays", parse_words("rays", words, flags));
+  require("rays", "--out FILE.rays", out);
+  const Box box = load_scene(scene).bounds();
+  const Camera view = camera ? *camera : frame_box(box, float(settings.width) / settings.height);
+  std::vector<Ray> rays;
+  rays.reserve(size_t(settings.width) * size_t(settings.height));
+  for (int y = 0; y < settings.height; ++y)
+    for (int x = 0; x < settings.width; ++x)
+      rays.push_back(view.primary_ray(x, y, settings.width, settings.height));
+  write_rays(out, rays);
+  return 0;
+}
+
 bool asks_for_help(std::span<const std::string> args) {
   return args[0] == "help" || args[0] == "-h" ||
          std::find(args.begin(), args.end(), "--help") != args.end();
@@ -256,6 +281,7 @@ int run_cli(std::span<const std::string> args) {
   if (command == "trace") return trace_command(rest);
   if (command == "render") return render_command(rest);
   if (command == "export") return export_command(rest);
+  if (command == "rays") return rays_command(rest);
   if (command == "view" || command == "shot" || command == "bench" || command == "calibrate")
     throw UsageError("'" + command + "' is not available in this build yet");
   throw UsageError("unknown command '" + command + "'");

@@ -22,9 +22,9 @@ enum class AxisRule { alternate, cost };
 struct AccelParams {
   // Section 6.2 code timings, relative units (calibrated constants come later).
   double intcost = 1.0;   // one ray/triangle test
-  double repcost = 0.1;   // a mailbox-rejected repeat
-  double travcost = 0.4;  // one cell step
-  double vertcost = 1.0;  // initialising a ray in a subdivided voxel
+  double repcost = 0.2;   // a mailbox-rejected repeat
+  double travcost = 1.0;  // one cell step
+  double vertcost = 6.0;  // initialising a ray in a subdivided voxel
   double subcost = 2.0;   // sorting one triangle into a voxel's cells
   int max_granularity = 20;
   AxisRule axis = AxisRule::alternate;

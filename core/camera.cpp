@@ -127,6 +127,13 @@ Camera frame_box(const Box& box, float aspect) {
   const double distance = 1.05 * double(radius) / std::sin(std::min(half_v, half_h));
   camera.target = centre;
   camera.eye = centre + glm::normalize(glm::vec3(1.0f, 0.8f, 1.3f)) * float(distance);
+  // Meshes are mostly y-up, the SPD scenes and our built-ins z-up: a box much flatter in z
+  // than in x and y is taken as z-up, seen from above its ground.
+  const glm::vec3 extent = box.empty() ? glm::vec3(1.0f) : box.hi - box.lo;
+  if (extent.z < 0.5f * std::min(extent.x, extent.y)) {
+    camera.up = {0.0f, 0.0f, 1.0f};
+    camera.eye = centre + glm::normalize(glm::vec3(1.0f, -1.3f, 0.8f)) * float(distance);
+  }
   return camera;
 }
 

@@ -34,14 +34,6 @@ ClipBox::ClipBox(const Box& scene) : empty(scene.empty()) {
   for (int a = 0; a < 3; ++a) lo[a] = scene.lo[a] - padding, hi[a] = scene.hi[a] + padding;
 }
 
-bool ClipBox::clip(const Ray& ray, double& t0, double& t1) const {
-  if (empty || !ray_is_valid(ray)) return false;
-  const double origin[3] = {ray.origin.x, ray.origin.y, ray.origin.z};
-  const double dir[3] = {ray.dir.x, ray.dir.y, ray.dir.z};
-  t0 = ray.tmin, t1 = ray.tmax;
-  return clip_segment(origin, dir, lo, hi, t0, t1);
-}
-
 bool ray_is_valid(const Ray& ray) {
   for (int k = 0; k < 3; ++k)
     if (!std::isfinite(ray.origin[k]) || !std::isfinite(ray.dir[k])) return false;

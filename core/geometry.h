@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 #include <vector>
 
@@ -44,12 +45,13 @@ bool clip_segment(const double origin[3], const double dir[3], const double lo[3
                   const double hi[3], double& t0, double& t1);
 
 // The box every structure (brute included) clips rays to before testing triangles: the
-// scene box padded by kPadding of the largest coordinate magnitude. The float kernel's
-// answers are off from exact geometry by a few ulps of the coordinates involved; the padding
-// covers that, so a hit the kernel reports is always inside the box and inside every cell
-// a structure sorted its triangle into with the same padding.
+// scene box padded by kPadding of the largest coordinate magnitude. With the ray's origin
+// moved to where it enters this box, the float kernel's answers are off from exact
+// geometry by a few ulps of the scene's coordinates; `padding` covers that, so a hit the
+// kernel reports lies inside the box and inside every cell a structure sorted the
+// triangle into with that padding.
 struct ClipBox {
-  static constexpr double kPadding = 2e-6;  // about 17 float ulps
+  static constexpr double kPadding = 4e-6;  // about 34 float ulps
   double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
   double magnitude = 0.0;  // largest |coordinate| of the scene box
   double padding = 0.0;    // kPadding * magnitude
@@ -58,13 +60,30 @@ struct ClipBox {
   ClipBox() = default;
   explicit ClipBox(const Box& scene);
   // The ray's [tmin, tmax] clipped to the box; false for a ray that misses it or is invalid.
-  bool clip(const Ray& ray, double& t0, double& t1) const;
+  bool clip(const Ray& ray, double& t0, double& t1) const {
+    if (empty || !ray_is_valid(ray)) return false;
+    const float* origin = &ray.origin.x;
+    const float* dir = &ray.dir.x;
+    t0 = ray.tmin, t1 = ray.tmax;
+    for (int a = 0; a < 3; ++a) {
+      if (dir[a] == 0.0f) {
+        if (origin[a] < lo[a] || origin[a] > hi[a]) return false;
+        continue;
+      }
+      const double inv = 1.0 / double(dir[a]);
+      double ta = (lo[a] - origin[a]) * inv, tb = (hi[a] - origin[a]) * inv;
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta), t1 = std::min(t1, tb);
+    }
+    return t0 <= t1;
+  }
 };
 
 // The per-ray part of the test: axis permutation and shear (section 3 of the paper). The
 // origin is first moved along the ray to where it enters the clip box (`shift`), so that
 // the kernel's rounding is relative to the scene's size rather than to how far away the
-// ray starts; t is reported from the true origin.
+// ray starts; t is reported from the true origin. The shift is one per ray, never per
+// triangle: two triangles sharing an edge must see the same origin to stay watertight.
 template <class Real>
 struct PreparedRay {
   using Vec = glm::vec<3, Real>;

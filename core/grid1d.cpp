@@ -15,11 +15,12 @@ using Clock = std::chrono::steady_clock;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // Absolute granularities stay exact integers in double (wall = x0 + E * (I / G)).
 constexpr uint64_t kMaxAbsoluteGranularity = uint64_t{1} << 50;
-// Cells narrower than this many float ulps of the scene's coordinates separate nothing:
-// triangles are sorted into cells with intervals padded by ClipBox::padding (about 17 ulps)
-// so that a triangle on, or within the kernel's rounding of, a wall is in both cells
-// (DESIGN.md §1, degenerate input).
+// Cells narrower than this many float ulps of their own coordinates separate nothing, and
+// neither do cells only a few times wider than the padding of the triangles' boxes
+// (ClipBox::padding, which puts a triangle on or within the kernel's rounding of a wall in
+// both cells): DESIGN.md §1, degenerate input.
 constexpr double kMinCellUlps = 256.0;
+constexpr double kMinCellPaddings = 4.0;
 // The walk ends when the current cell's exit lies beyond the nearest hit by more than the
 // float kernel's error (relative to the distances involved); see Grid1D::trace.
 constexpr double kExitSlack = 1e-5;
@@ -119,6 +120,7 @@ struct Grid1D::RayWalk {
   int step[3];  // +1, -1, or 0 where the direction component is zero
   uint32_t active[3];
   uint32_t active_state[3];
+  double t_next[3];  // the active states' t_next, kept at hand for choosing the step axis
   uint64_t ray_id;
 };
 
@@ -146,12 +148,16 @@ void Grid1D::build(const Scene& scene) {
   const auto start = Clock::now();
   triangles_ = gather_triangles(scene);
   bounds_ = scene.bounds();
+  root_ = ClipBox(bounds_);
   tri_box_.resize(triangles_.size() * 6);
   std::vector<uint32_t> usable;
   for (uint32_t id = 0; id < triangles_.size(); ++id) {
+    // Boxes padded by the kernel's possible error (ClipBox): sorting by them puts a
+    // triangle in every cell where the kernel could report it hit.
     const TriangleVerts& t = triangles_[id];
-    const glm::vec3 lo = glm::min(t.v0, glm::min(t.v1, t.v2));
-    const glm::vec3 hi = glm::max(t.v0, glm::max(t.v1, t.v2));
+    const double pad = root_.padding;
+    const glm::dvec3 lo = glm::dvec3(glm::min(t.v0, glm::min(t.v1, t.v2))) - pad;
+    const glm::dvec3 hi = glm::dvec3(glm::max(t.v0, glm::max(t.v1, t.v2))) + pad;
     std::copy(&lo.x, &lo.x + 3, &tri_box_[id * 6]);
     std::copy(&hi.x, &hi.x + 3, &tri_box_[id * 6 + 3]);
     if (scene.is_degenerate(id))
@@ -159,7 +165,6 @@ void Grid1D::build(const Scene& scene) {
     else
       usable.push_back(id);
   }
-  root_ = ClipBox(bounds_);
   for (uint32_t a = 0; a < 3; ++a) state_for(a, 1);  // states 0, 1, 2: the box on each axis
   const uint32_t root = uint32_t(voxels_.append(1));
   regions_.append(1);
@@ -255,7 +260,7 @@ Hit Grid1D::trace(const Ray& ray, Context& context) const {
     box.stamp = walk.ray_id, box.index = 0;
     const double exit_wall = walk.step[a] > 0 ? root_.hi[a] : root_.lo[a];
     box.t_next = walk.step[a] == 0 ? kInf : (exit_wall - walk.origin[a]) * walk.inv_dir[a];
-    walk.active[a] = kNone, walk.active_state[a] = a;
+    walk.active[a] = kNone, walk.active_state[a] = a, walk.t_next[a] = box.t_next;
   }
 
   const PreparedRay<float> prepared(ray, t_enter);
@@ -267,12 +272,12 @@ Hit Grid1D::trace(const Ray& ray, Context& context) const {
     if (test_leaf<AnyHit>(leaf, status, prepared, walk.ray_id, tmax, best, context) && AnyHit)
       return best;
     // Leave the cell through its nearest wall, unless the nearest hit lies before it.
-    int s = 0;
-    double t_exit = context.states[walk.active_state[0]].t_next;
-    for (int a = 1; a < 3; ++a) {
-      const double t = context.states[walk.active_state[a]].t_next;
-      if (t < t_exit) t_exit = t, s = a;
-    }
+    // Written as selects, not branches: which axis comes next is unpredictable.
+    const bool y_first = walk.t_next[1] < walk.t_next[0];
+    const double t_xy = y_first ? walk.t_next[1] : walk.t_next[0];
+    const bool z_first = walk.t_next[2] < t_xy;
+    const int s = z_first ? 2 : int(y_first);
+    const double t_exit = z_first ? walk.t_next[2] : t_xy;
     if (t_exit > double(tmax) + slack) break;
     // Step one cell on axis s; climb while the step leaves the current 1D array (§5.3).
     uint32_t id = walk.active[s];
@@ -285,7 +290,7 @@ Hit Grid1D::trace(const Ray& ray, Context& context) const {
       local = uint64_t(next - int64_t(up.first_cell));
       if (local < up.granularity) {
         values.index = next;
-        values.t_next = values.exit_distance(next, walk.step[s]);
+        values.t_next = walk.t_next[s] = values.exit_distance(next, walk.step[s]);
         break;
       }
     }
@@ -298,6 +303,7 @@ Hit Grid1D::trace(const Ray& ray, Context& context) const {
       if (c == s || walk.active[c] == moved.above[c]) continue;
       walk.active[c] = moved.above[c];
       walk.active_state[c] = moved.above[c] == kNone ? uint32_t(c) : voxels_[moved.above[c]].state;
+      walk.t_next[c] = context.states[walk.active_state[c]].t_next;
     }
     leaf = moved.first_child + uint32_t(local);
     status = voxels_[leaf].status.load(std::memory_order_acquire);
@@ -316,14 +322,14 @@ bool Grid1D::test_leaf(uint32_t id, uint8_t status, const PreparedRay<float>& pr
   TraceCounters& counters = context.counters;
   bool found = false;
   for (uint32_t i = 0; i < voxel.tri_count; ++i) {
-    const uint32_t tri_id =
-        packed ? packed_[voxel.first_packed + i].id : tri_indices_[voxel.tri_begin + i];
-    if (context.already_tested(tri_id, ray_id)) {
+    const PackedTriangle* record = packed ? &packed_[voxel.first_packed + i] : nullptr;
+    const uint32_t tri_id = packed ? record->id : tri_indices_[voxel.tri_begin + i];
+    if (!(packed && record->only_here) && context.already_tested(tri_id, ray_id)) {
       ++counters.mailbox_rejections;
       continue;
     }
     ++counters.intersection_tests;
-    const TriangleVerts& tri = packed ? packed_[voxel.first_packed + i].verts : triangles_[tri_id];
+    const TriangleVerts& tri = packed ? record->verts : triangles_[tri_id];
     float t, u, v;
     if (intersect_triangle(prepared, tri.v0, tri.v1, tri.v2, tmax, t, u, v) &&
         closer(t, int32_t(tri_id), best)) {
@@ -372,7 +378,7 @@ uint32_t Grid1D::descend(uint32_t id, double t_cur, int entered_axis, RayWalk& w
       values.index = first + local;
       values.t_next = walk.step[b] == 0 ? kInf : values.exit_distance(values.index, walk.step[b]);
     }
-    walk.active[b] = id, walk.active_state[b] = voxel.state;
+    walk.active[b] = id, walk.active_state[b] = voxel.state, walk.t_next[b] = values.t_next;
     id = voxel.first_child + uint32_t(local);
   }
 }
@@ -403,9 +409,14 @@ uint32_t Grid1D::pack_leaf(uint32_t id) const {
     if (first == SIZE_MAX || first + voxel.tri_count >= kNone) return kNone;
     bytes_used_ += bytes;
   }
+  double lo[3], hi[3];
+  voxel_box(id, lo, hi);
   for (uint32_t i = 0; i < voxel.tri_count; ++i) {
     const uint32_t tri_id = tri_indices_[voxel.tri_begin + i];
-    packed_[first + i] = {triangles_[tri_id], tri_id};
+    const double* box = &tri_box_[size_t(tri_id) * 6];
+    bool inside = true;
+    for (int a = 0; a < 3; ++a) inside &= box[a] >= lo[a] && box[a + 3] <= hi[a];
+    packed_[first + i] = {triangles_[tri_id], tri_id, inside};
   }
   return uint32_t(first);
 }
@@ -473,20 +484,23 @@ Grid1D::Cut Grid1D::plan_cut(uint32_t id) const {
   figures.triangles = voxel.tri_count;
   for (int a = 0; a < 3; ++a) figures.extent[a] = hi[a] - lo[a];
   for (uint32_t i = 0; i < voxel.tri_count; ++i) {
-    const float* box = &tri_box_[size_t(tri_indices_[voxel.tri_begin + i]) * 6];
+    const double* box = &tri_box_[size_t(tri_indices_[voxel.tri_begin + i]) * 6];
     for (int a = 0; a < 3; ++a)
-      figures.mean_size[a] +=
-          std::max(0.0, std::min<double>(box[a + 3], hi[a]) - std::max<double>(box[a], lo[a]));
+      figures.mean_size[a] += std::max(0.0, std::min(box[a + 3], hi[a]) - std::max(box[a], lo[a]));
   }
   for (double& size : figures.mean_size) size /= voxel.tri_count;
   figures.rays = estimated_rays(id);
   cut.rays = figures.rays;
 
+  double local_magnitude = 0.0;
+  for (int a = 0; a < 3; ++a)
+    local_magnitude = std::max({local_magnitude, std::fabs(lo[a]), std::fabs(hi[a])});
   std::vector<AxisPlan> plans;
   for (int k = 0; k < 3; ++k) {
     const int a = (int(region.depth) + k) % 3;
-    const double ulp = root_.magnitude * FLT_EPSILON;
-    const double thin_limit = ulp > 0.0 ? figures.extent[a] / (kMinCellUlps * ulp) : 0.0;
+    const double min_width =
+        std::max(kMinCellUlps * FLT_EPSILON * local_magnitude, kMinCellPaddings * root_.padding);
+    const double thin_limit = min_width > 0.0 ? figures.extent[a] / min_width : 0.0;
     const double max_g = std::min({double(params_.max_granularity), std::floor(thin_limit),
                                    double(kMaxAbsoluteGranularity / region.grid[a])});
     if (max_g < 2.0) continue;
@@ -514,16 +528,14 @@ bool Grid1D::sort_into_cells(uint32_t id, int axis, int g, const double lo[3], c
   const uint64_t granularity = region.grid[axis] * uint64_t(g);
   const CellLocator locate{grid.origin, double(granularity) / grid.extent,
                            double(region.cell[axis] * uint64_t(g)), double(g - 1)};
-  const double pad = root_.padding;
 
   std::vector<uint32_t> items(&tri_indices_[voxel.tri_begin],
                               &tri_indices_[voxel.tri_begin] + voxel.tri_count);
   std::vector<std::pair<int64_t, int64_t>> ranges(items.size());
   bool separates = false;
   for (size_t i = 0; i < items.size(); ++i) {
-    const float* box = &tri_box_[size_t(items[i]) * 6];
-    ranges[i] = {locate(std::max<double>(box[axis], lo[axis]) - pad),
-                 locate(std::min<double>(box[axis + 3], hi[axis]) + pad)};
+    const double* box = &tri_box_[size_t(items[i]) * 6];
+    ranges[i] = {locate(std::max(box[axis], lo[axis])), locate(std::min(box[axis + 3], hi[axis]))};
     separates |= ranges[i].first > 0 || ranges[i].second < g - 1;
   }
   if (!separates) return false;
@@ -622,7 +634,7 @@ StructureStats Grid1D::stats() const {
   s.leaves = voxels_.size() - subdivided_.load();
   s.traversal_states = states_.size();
   s.memory_bytes = bytes_used_ + triangles_.size() * sizeof(TriangleVerts) +
-                   tri_box_.size() * sizeof(float) + sample_.size() * sizeof(SampleRay) +
+                   tri_box_.size() * sizeof(double) + sample_.size() * sizeof(SampleRay) +
                    states_.size() * sizeof(StateInfo);
   s.build_seconds = build_seconds_;
   s.voxels_over_budget = over_budget_.load();

@@ -63,10 +63,12 @@ class Grid1D final : public Accelerator {
     uint64_t first_cell;  // J0: index of cell 0 on the state's global grid
   };
   // A leaf's triangle as the kernel reads it, stored with the leaf's others so that a
-  // leaf's tests read one contiguous run of memory.
+  // leaf's tests read one contiguous run of memory. A triangle that lies in this leaf only
+  // cannot have been tested by the ray before, so it skips the mailbox.
   struct PackedTriangle {
     TriangleVerts verts;
-    uint32_t id;
+    uint32_t id : 31;
+    uint32_t only_here : 1;
   };
   enum Status : uint8_t { kUnexamined = 0, kBuilding, kLeaf, kSplit };
 
@@ -103,7 +105,7 @@ class Grid1D final : public Accelerator {
 
   AccelParams params_;
   std::vector<TriangleVerts> triangles_;
-  std::vector<float> tri_box_;  // per triangle lo.xyz, hi.xyz
+  std::vector<double> tri_box_;  // per triangle lo.xyz, hi.xyz, padded (see build)
   Box bounds_;
   ClipBox root_;  // the root voxel: the padded scene box every ray is clipped to
   size_t degenerate_ = 0;

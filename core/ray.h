@@ -1,9 +1,8 @@
 // Rays and hits exactly as the ray and hit files store them (DESIGN.md §3).
 #pragma once
 #include <cstdint>
-#include <limits>
-
 #include <glm/vec3.hpp>
+#include <limits>
 
 namespace gs {
 

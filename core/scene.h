@@ -3,11 +3,10 @@
 // accelerator consumes it.
 #pragma once
 #include <cstdint>
+#include <glm/vec3.hpp>
 #include <limits>
 #include <string>
 #include <vector>
-
-#include <glm/vec3.hpp>
 
 namespace gs {
 

@@ -7,5 +7,7 @@ cd "$(dirname "$0")/.."
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j2 --target gridscope
 mkdir -p out
-image=$(build/app/gridscope render builtin:lumpy --out out/lumpy.png --size 640x480)
+# The "teapot" cluster at the centre of the stadium, seen from inside it.
+image=$(build/app/gridscope render builtin:lumpy --out out/lumpy.png --size 640x480 \
+  --camera "eye=3.2,-4.2,2.2;target=0,0,0.35;up=0,0,1;fov=40")
 echo "run.sh: image written to $(pwd)/$image"

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <glm/geometric.hpp>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <random>
@@ -16,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "core/ray_io.h"
 #include "core/render.h"
 #include "tests/test_util.h"
 
@@ -324,6 +326,28 @@ TEST(Cli, ExportWritesEveryTriangle) {
   int faces = 0;
   for (std::string line; std::getline(text, line);) faces += line.rfind("f ", 0) == 0;
   EXPECT_EQ(faces, 4096);
+}
+
+// A camera at (0,0,5) looking down -z with a 90° vertical field of view: the centre of pixel
+// (x, y) of a 4x2 image lies at NDC ((x + 0.5) / 2 - 1, 1 - (y + 0.5)), so its ray runs
+// along (2 * ndc_x, ndc_y, -1) (aspect 2, tan 45° = 1).
+TEST(Cli, RaysWritesThePixelCentreRays) {
+  const std::string out = temp_path("camera.rays");
+  const Outcome result = run("rays " + quoted(two_triangles()) + " --size 4x2 --out " +
+                             quoted(out) + " --camera 'eye=0,0,5;target=0,0,0;up=0,1,0;fov=90'");
+  ASSERT_EQ(result.status, 0) << result.err;
+  const std::vector<gs::Ray> rays = gs::read_rays(out);
+  ASSERT_EQ(rays.size(), 8u);
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 4; ++x) {
+      const gs::Ray& ray = rays[size_t(y * 4 + x)];
+      EXPECT_EQ(ray.origin, glm::vec3(0, 0, 5));
+      const glm::vec3 expected(2.0f * ((x + 0.5f) / 2.0f - 1.0f), 1.0f - (y + 0.5f), -1.0f);
+      EXPECT_NEAR(glm::length(glm::cross(glm::normalize(ray.dir), glm::normalize(expected))), 0.0f,
+                  1e-6f)
+          << "pixel " << x << "," << y;
+      EXPECT_GT(glm::dot(ray.dir, expected), 0.0f);
+    }
 }
 
 uint32_t big_endian(const std::string& bytes, size_t at) {
