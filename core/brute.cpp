@@ -24,7 +24,7 @@ Hit BruteForce::trace(const Ray& ray, ThreadContext& context) const {
   Hit best;
   double t_enter, t_leave;
   if (!clip_box_.clip(ray, t_enter, t_leave)) return best;
-  const PreparedRay<float> prepared(ray, t_enter);
+  const PreparedRay<KernelReal> prepared(ray, t_enter);
   float tmax = ray.tmax;
   for (const uint32_t id : usable_) {
     const TriangleVerts& tri = triangles_[id];
@@ -59,20 +59,19 @@ StructureStats BruteForce::stats() const {
   return s;
 }
 
-Hit brute_force_double(const std::vector<TriangleVerts>& triangles, const ClipBox& box,
-                       const Ray& ray) {
+Hit brute_force_long_double(const std::vector<TriangleVerts>& triangles, const ClipBox& box,
+                            const Ray& ray) {
   Hit best;
   double t_enter, t_leave;
   if (!box.clip(ray, t_enter, t_leave)) return best;
-  const PreparedRay<double> prepared(ray, t_enter);
-  double tmax = ray.tmax, best_t = tmax;
+  const PreparedRay<long double> prepared(ray, t_enter);
+  float tmax = ray.tmax;
   for (uint32_t id = 0; id < triangles.size(); ++id) {
     const TriangleVerts& tri = triangles[id];
-    double t, u, v;
+    float t, u, v;
     if (!intersect_triangle(prepared, tri.v0, tri.v1, tri.v2, tmax, t, u, v)) continue;
-    if (best.id < 0 || t < best_t) {
-      best_t = t;
-      best = {int32_t(id), float(t), float(u), float(v)};
+    if (closer(t, int32_t(id), best)) {
+      best = {int32_t(id), t, u, v};
       tmax = t;
     }
   }

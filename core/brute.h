@@ -29,9 +29,9 @@ class BruteForce final : public Accelerator {
   double build_seconds_ = 0.0;
 };
 
-// The same search in double precision (the kernel instantiated for double): checks the
-// float kernel itself. Returns the nearest hit as the double kernel sees it.
-Hit brute_force_double(const std::vector<TriangleVerts>& triangles, const ClipBox& box,
-                       const Ray& ray);
+// The same search with the kernel instantiated for long double, one step wider than the
+// kernel's own arithmetic: checks the kernel itself. The nearest hit as that kernel sees it.
+Hit brute_force_long_double(const std::vector<TriangleVerts>& triangles, const ClipBox& box,
+                            const Ray& ray);
 
 }  // namespace gs

@@ -1,6 +1,11 @@
 // The watertight ray/triangle test of Woop, Benthin and Wald, "Watertight Ray/Triangle
-// Intersection", JCGT 2(1), 2013. One float kernel serves brute and every structure, so
-// that structures can be compared with brute exactly; the double instantiation checks it.
+// Intersection", JCGT 2(1), 2013. One kernel serves brute and every structure, so that
+// structures can be compared with brute exactly. It reads float data (scenes and rays are
+// float) and computes in double (KernelReal): on x86-64 scalar double costs the same as
+// float here (measured: 2% on grid1d), and its rounding, a few ulps of double, lets a
+// structure pad cells by 1e-9 of the scene's size instead of 1e-6, which is what allows
+// fine cells around a small cluster in large extents. The long double instantiation
+// checks it.
 //
 // Why watertight: the ray is sheared so that it runs along +z through the origin, and each
 // edge is classified by a 2D edge function that two triangles sharing the edge evaluate
@@ -38,6 +43,13 @@ template <>
 struct WiderType<double> {
   using type = long double;
 };
+template <>
+struct WiderType<long double> {
+  using type = long double;
+};
+
+// The arithmetic of the kernel every structure uses.
+using KernelReal = double;
 
 // Clips [t0, t1] to the box lo..hi; false when nothing is left. A zero direction
 // component constrains only through the origin.
@@ -46,12 +58,13 @@ bool clip_segment(const double origin[3], const double dir[3], const double lo[3
 
 // The box every structure (brute included) clips rays to before testing triangles: the
 // scene box padded by kPadding of the largest coordinate magnitude. With the ray's origin
-// moved to where it enters this box, the float kernel's answers are off from exact
-// geometry by a few ulps of the scene's coordinates; `padding` covers that, so a hit the
+// moved to where it enters this box, the kernel's answers are off from exact geometry by a
+// few double ulps of the scene's coordinates; `padding` covers that (and the double
+// rounding of a walk's cell location for origins up to ~1e6 scene sizes away), so a hit the
 // kernel reports lies inside the box and inside every cell a structure sorted the
 // triangle into with that padding.
 struct ClipBox {
-  static constexpr double kPadding = 4e-6;  // about 34 float ulps
+  static constexpr double kPadding = 1e-9;
   double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
   double magnitude = 0.0;  // largest |coordinate| of the scene box
   double padding = 0.0;    // kPadding * magnitude
@@ -86,45 +99,40 @@ struct ClipBox {
 // triangle: two triangles sharing an edge must see the same origin to stay watertight.
 template <class Real>
 struct PreparedRay {
-  using Vec = glm::vec<3, Real>;
-  Vec origin;
+  Real origin[3];
   Real shift;
-  Real tmin;
+  float tmin;
   int kx, ky, kz;
   Real sx, sy, sz;
 
-  PreparedRay(const Ray& ray, double shift_to)
-      : origin(Vec(glm::dvec3(ray.origin) + shift_to * glm::dvec3(ray.dir))),
-        shift(Real(shift_to)),
-        tmin(Real(ray.tmin)) {
-    const Vec dir(ray.dir);
-    const Vec mag = glm::abs(dir);
+  PreparedRay(const Ray& ray, double shift_to) : shift(Real(shift_to)), tmin(ray.tmin) {
+    const float* o = &ray.origin.x;
+    const float* d = &ray.dir.x;
+    for (int a = 0; a < 3; ++a) origin[a] = Real(double(o[a]) + shift_to * double(d[a]));
+    const glm::vec3 mag = glm::abs(ray.dir);
     kz = (mag.x >= mag.y) ? (mag.x >= mag.z ? 0 : 2) : (mag.y >= mag.z ? 1 : 2);
     kx = kz == 2 ? 0 : kz + 1;
     ky = kx == 2 ? 0 : kx + 1;
-    if (dir[kz] < Real(0)) std::swap(kx, ky);  // keep the winding
-    sx = dir[kx] / dir[kz];
-    sy = dir[ky] / dir[kz];
-    sz = Real(1) / dir[kz];
+    if (d[kz] < 0.0f) std::swap(kx, ky);  // keep the winding
+    sx = Real(d[kx]) / Real(d[kz]);
+    sy = Real(d[ky]) / Real(d[kz]);
+    sz = Real(1) / Real(d[kz]);
   }
 };
 
-struct TriangleHit {
-  float t, u, v;
-};
-
-// Tests one triangle. On a hit with tmin < t <= tmax writes t and the barycentric weights
-// of the second (u) and third (v) corner and returns true.
+// Tests one triangle. On a hit with tmin < t <= tmax (t as reported: rounded to float)
+// writes t and the barycentric weights of the second (u) and third (v) corner and returns
+// true.
 template <class Real>
 [[gnu::always_inline]] inline bool intersect_triangle(const PreparedRay<Real>& ray,
                                                       const glm::vec3& p0, const glm::vec3& p1,
-                                                      const glm::vec3& p2, Real tmax, Real& t,
-                                                      Real& u, Real& v) {
+                                                      const glm::vec3& p2, float tmax, float& t,
+                                                      float& u, float& v) {
   // Raw component access: glm's operator[] is a switch, too slow for the inner loop.
   const float* c0 = &p0.x;
   const float* c1 = &p1.x;
   const float* c2 = &p2.x;
-  const Real* o = &ray.origin.x;
+  const Real* o = ray.origin;
   const int kx = ray.kx, ky = ray.ky, kz = ray.kz;
   const Real az = Real(c0[kz]) - o[kz], bz = Real(c1[kz]) - o[kz], cz = Real(c2[kz]) - o[kz];
   const Real ax = (Real(c0[kx]) - o[kx]) - ray.sx * az;
@@ -146,11 +154,11 @@ template <class Real>
   const Real det = e0 + e1 + e2;
   if (det == Real(0)) return false;
   const Real scaled_t = e0 * (ray.sz * az) + e1 * (ray.sz * bz) + e2 * (ray.sz * cz);
-  const Real hit_t = ray.shift + scaled_t / det;
+  const float hit_t = float(ray.shift + scaled_t / det);
   if (!(hit_t > ray.tmin && hit_t <= tmax)) return false;
   t = hit_t;
-  u = e1 / det;
-  v = e2 / det;
+  u = float(e1 / det);
+  v = float(e2 / det);
   return true;
 }
 

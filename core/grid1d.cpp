@@ -23,7 +23,7 @@ constexpr double kMinCellUlps = 256.0;
 constexpr double kMinCellPaddings = 4.0;
 // The walk ends when the current cell's exit lies beyond the nearest hit by more than the
 // float kernel's error (relative to the distances involved); see Grid1D::trace.
-constexpr double kExitSlack = 1e-5;
+constexpr double kExitSlack = 1e-9;
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -74,7 +74,8 @@ struct Grid1D::Cut {
 // A ray's per-thread traversal scratch. Mailboxes and state values belong to the thread:
 // the paper's per-object stamp would race between threads (DESIGN.md §1). Ray ids are 64
 // bits so that stamps never wrap.
-class Grid1D::Context final : public ThreadContext {
+// Cache-line aligned: two threads' contexts must not share a line (false sharing).
+class alignas(64) Grid1D::Context final : public ThreadContext {
  public:
   // The ray's position on one global grid (the paper's dist, delta and index): its slab
   // and the distance to the slab's exit, valid for the ray `stamp` while t < t_next (the
@@ -167,7 +168,7 @@ void Grid1D::build(const Scene& scene) {
   }
   for (uint32_t a = 0; a < 3; ++a) state_for(a, 1);  // states 0, 1, 2: the box on each axis
   const uint32_t root = uint32_t(voxels_.append(1));
-  regions_.append(1);
+  regions_.construct(root, 1);
   Voxel& voxel = voxels_[root];
   voxel.tri_begin = uint32_t(tri_indices_.append(usable.size()));
   voxel.tri_count = uint32_t(usable.size());
@@ -263,7 +264,7 @@ Hit Grid1D::trace(const Ray& ray, Context& context) const {
     walk.active[a] = kNone, walk.active_state[a] = a, walk.t_next[a] = box.t_next;
   }
 
-  const PreparedRay<float> prepared(ray, t_enter);
+  const PreparedRay<KernelReal> prepared(ray, t_enter);
   float tmax = ray.tmax;
   TraceCounters& counters = context.counters;
   uint8_t status;
@@ -315,7 +316,7 @@ Hit Grid1D::trace(const Ray& ray, Context& context) const {
 // Tests the leaf's triangles not yet tested by this ray; true when one is hit. A leaf
 // another thread is still cutting (kBuilding) is read through its id list.
 template <bool AnyHit>
-bool Grid1D::test_leaf(uint32_t id, uint8_t status, const PreparedRay<float>& prepared,
+bool Grid1D::test_leaf(uint32_t id, uint8_t status, const PreparedRay<KernelReal>& prepared,
                        uint64_t ray_id, float& tmax, Hit& best, Context& context) const {
   const Voxel& voxel = voxels_[id];
   const bool packed = status == kLeaf && voxel.first_packed != kNone;
@@ -400,15 +401,9 @@ uint8_t Grid1D::examine(uint32_t id, Context& context) const {
 // budget is spent (the leaf is then read through its id list).
 uint32_t Grid1D::pack_leaf(uint32_t id) const {
   const Voxel& voxel = voxels_[id];
-  size_t first;
-  {
-    std::lock_guard lock(build_mutex_);
-    const uint64_t bytes = uint64_t(voxel.tri_count) * sizeof(PackedTriangle);
-    first =
-        bytes_used_ + bytes <= params_.memory_budget ? packed_.append(voxel.tri_count) : SIZE_MAX;
-    if (first == SIZE_MAX || first + voxel.tri_count >= kNone) return kNone;
-    bytes_used_ += bytes;
-  }
+  if (!reserve_bytes(uint64_t(voxel.tri_count) * sizeof(PackedTriangle))) return kNone;
+  const size_t first = packed_.append(voxel.tri_count);
+  if (first == SIZE_MAX || first + voxel.tri_count >= kNone) return kNone;
   double lo[3], hi[3];
   voxel_box(id, lo, hi);
   for (uint32_t i = 0; i < voxel.tri_count; ++i) {
@@ -560,7 +555,19 @@ bool Grid1D::sort_into_cells(uint32_t id, int axis, int g, const double lo[3], c
   return true;
 }
 
+// Counts `bytes` against the memory budget; false (and nothing counted) when they do not
+// fit. Under a tight budget which voxels get cut depends on which thread comes first; the
+// answers do not.
+bool Grid1D::reserve_bytes(uint64_t bytes) const {
+  uint64_t used = bytes_used_.load(std::memory_order_relaxed);
+  do {
+    if (used + bytes > params_.memory_budget) return false;
+  } while (!bytes_used_.compare_exchange_weak(used, used + bytes, std::memory_order_relaxed));
+  return true;
+}
+
 uint32_t Grid1D::state_for(uint32_t axis, uint64_t granularity) const {
+  std::lock_guard lock(state_mutex_);
   const uint64_t key = granularity << 2 | axis;
   const auto found = state_ids_.find(key);
   if (found != state_ids_.end()) return found->second;
@@ -575,21 +582,27 @@ uint32_t Grid1D::state_for(uint32_t axis, uint64_t granularity) const {
 // Publishes the cut's cells as new voxels. Runs under the build lock; the caller's release
 // store of kSplit makes all of it visible to the threads that then walk into the voxel.
 bool Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
-  std::lock_guard lock(build_mutex_);
   const size_t g = size_t(cut.granularity);
   const uint64_t bytes = g * (sizeof(Voxel) + sizeof(Region)) +
                          (cut.tris.size() + cut.samples.size()) * sizeof(uint32_t);
-  if (bytes_used_ + bytes > params_.memory_budget || voxels_.size() + g >= size_t(kNone)) {
+  if (voxels_.size() + g >= size_t(kNone) || !reserve_bytes(bytes)) {
     ++over_budget_;
     return false;
   }
   const Region& parent = regions_[id];
   const int axis = cut.axis;
   const uint32_t state = state_for(uint32_t(axis), parent.grid[axis] * g);
-  const uint32_t first_child = uint32_t(voxels_.append(g));
-  regions_.append(g);
+  // Each array holds at most the budget, which reserve_bytes has checked: these appends
+  // fail only if one array alone outgrows it, and then the voxel stays a leaf.
+  const size_t first_voxel = voxels_.append(g);
   const size_t tri_base = tri_indices_.append(cut.tris.size());
   const size_t sample_base = sample_indices_.append(cut.samples.size());
+  if (first_voxel == SIZE_MAX || tri_base == SIZE_MAX || sample_base == SIZE_MAX ||
+      !regions_.construct(first_voxel, g)) {
+    ++over_budget_;
+    return false;
+  }
+  const uint32_t first_child = uint32_t(first_voxel);
   std::copy(cut.tris.begin(), cut.tris.end(), &tri_indices_[tri_base]);
   std::copy(cut.samples.begin(), cut.samples.end(), &sample_indices_[sample_base]);
 
@@ -621,13 +634,11 @@ bool Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
   voxel.first_child = first_child;
   std::copy(parent.above, parent.above + 3, voxel.above);
   voxel.first_cell = parent.cell[axis] * g;
-  bytes_used_ += bytes;
   ++subdivided_;
   return true;
 }
 
 StructureStats Grid1D::stats() const {
-  std::lock_guard lock(build_mutex_);
   StructureStats s;
   s.nodes = voxels_.size();
   s.voxels_subdivided = subdivided_.load();

@@ -94,7 +94,7 @@ class Grid1D final : public Accelerator {
   uint8_t examine(uint32_t voxel, Context& context) const;
   uint32_t pack_leaf(uint32_t voxel) const;
   template <bool AnyHit>
-  bool test_leaf(uint32_t voxel, uint8_t status, const PreparedRay<float>& prepared,
+  bool test_leaf(uint32_t voxel, uint8_t status, const PreparedRay<KernelReal>& prepared,
                  uint64_t ray_id, float& tmax, Hit& best, Context& context) const;
   Cut plan_cut(uint32_t voxel) const;
   bool sort_into_cells(uint32_t voxel, int axis, int g, const double lo[3], const double hi[3],
@@ -116,8 +116,8 @@ class Grid1D final : public Accelerator {
   double rays_per_sample_ = 0.0;  // rays in the run / rays in the sample
   bool sampled_ = false;
 
-  // Lazily grown storage; appended under build_mutex_, never moved.
-  mutable std::mutex build_mutex_;
+  // Lazily grown storage: appended by whichever thread cuts a voxel, never moved.
+  mutable std::mutex state_mutex_;  // guards state_ids_
   mutable StableArray<Voxel> voxels_;
   mutable StableArray<Region> regions_;
   mutable StableArray<uint32_t> tri_indices_;
@@ -127,7 +127,8 @@ class Grid1D final : public Accelerator {
   mutable std::unordered_map<uint64_t, uint32_t> state_ids_;
   mutable std::atomic<uint64_t> subdivided_{0};
   mutable std::atomic<uint64_t> over_budget_{0};
-  mutable uint64_t bytes_used_ = 0;
+  mutable std::atomic<uint64_t> bytes_used_{0};
+  bool reserve_bytes(uint64_t bytes) const;
 };
 
 }  // namespace gs

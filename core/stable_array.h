@@ -6,6 +6,7 @@
 #pragma once
 #include <sys/mman.h>
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <new>
@@ -32,21 +33,31 @@ class StableArray {
 
   T& operator[](size_t i) { return data_[i]; }
   const T& operator[](size_t i) const { return data_[i]; }
-  size_t size() const { return size_; }
+  size_t size() const { return size_.load(std::memory_order_relaxed); }
   // Appends n value-initialised elements and returns the first one's index, or SIZE_MAX
-  // when the reservation is full. Not thread-safe: callers serialise appends.
+  // when the reservation is full. Thread-safe: each caller gets its own contiguous range
+  // and constructs it; publishing the contents to other threads is the caller's business.
   size_t append(size_t n) {
-    if (n > capacity_ - size_) return SIZE_MAX;
-    const size_t first = size_;
+    size_t first = size_.load(std::memory_order_relaxed);
+    do {
+      if (n > capacity_ - first) return SIZE_MAX;
+    } while (!size_.compare_exchange_weak(first, first + n, std::memory_order_relaxed));
     for (size_t i = 0; i < n; ++i) new (&data_[first + i]) T();
-    size_ += n;
     return first;
+  }
+  // For an array kept parallel to another one (same indices): constructs elements
+  // first .. first + n - 1, which the caller owns; false when they exceed the reservation.
+  // size() does not count them.
+  bool construct(size_t first, size_t n) {
+    if (first > capacity_ || n > capacity_ - first) return false;
+    for (size_t i = 0; i < n; ++i) new (&data_[first + i]) T();
+    return true;
   }
 
  private:
   T* data_ = nullptr;
   size_t capacity_ = 0;
-  size_t size_ = 0;
+  std::atomic<size_t> size_{0};
 };
 
 }  // namespace gs
