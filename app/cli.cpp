@@ -23,7 +23,7 @@ namespace {
 constexpr const char* kUsage = R"(usage: gridscope COMMAND ...
 
   gridscope trace  SCENE --rays FILE --out FILE [--accel NAME] [--threads N]
-                   [--stats FILE.json] [--eager] [--occluded] [STRUCTURE FLAGS]
+                   [--stats FILE.json] [--eager] [--occluded] [--repeat N] [STRUCTURE FLAGS]
   gridscope render SCENE --out FILE.png [--size WxH] [--camera STRING] [--spp N]
                    [--accel NAME] [--threads N] [--stats FILE.json] [STRUCTURE FLAGS]
   gridscope export SCENE --out FILE.obj
@@ -202,6 +202,8 @@ int trace_command(std::span<const std::string> words) {
                 threads_flag(job.threads),
                 {"--eager", false, [&job](const std::string&) { job.eager = true; }},
                 {"--occluded", false, [&job](const std::string&) { job.occluded = true; }},
+                {"--repeat", true,
+                 [&job](const std::string& v) { job.repeat = parse_int("--repeat", v, 1, 1000); }},
                 not_yet_flag("trace", "--walk"),
                 not_yet_flag("trace", "--walk-out")});
   job.scene = scene_argument("trace", parse_words("trace", words, flags));

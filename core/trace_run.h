@@ -27,6 +27,9 @@ struct TraceJob {
   int threads = default_thread_count();
   bool eager = false;     // build everything before tracing (Accelerator::build_all)
   bool occluded = false;  // any-hit answers instead of nearest hits
+  // Passes over the rays: the first builds lazily; the others (warm) are timed apart, their
+  // median reported as warm_trace_seconds / warm_rays_per_second (null for one pass).
+  int repeat = 1;
 };
 
 // Makes the accelerator (so a usage error is reported before any file is read), loads the

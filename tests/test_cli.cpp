@@ -241,6 +241,29 @@ TEST(Cli, StatsHoldEveryKey) {
   EXPECT_GE(json["intersection_tests"].get<uint64_t>(), 8u);
   EXPECT_LE(json["intersection_tests"].get<uint64_t>(), 2 * cases.size());
   EXPECT_TRUE(json["memory_bytes"].is_number_unsigned());
+  EXPECT_TRUE(json["warm_trace_seconds"].is_null());  // one pass only
+}
+
+// --repeat 4: the counters describe one pass (brute tests every usable triangle once per
+// valid ray: 2 x 8), the warm figures are a median of the 3 later passes.
+TEST(Cli, RepeatReportsWarmPassesApart) {
+  const std::string stats = temp_path("repeat.json");
+  const std::vector<Case> cases = hand_cases();
+  const Outcome result = run(trace_args(two_triangles(), ray_file("repeat.rays", rays_of(cases)),
+                                        temp_path("repeat.hits")) +
+                             " --accel brute --threads 1 --repeat 4 --stats " + quoted(stats));
+  ASSERT_EQ(result.status, 0) << result.err;
+  const nlohmann::json json = nlohmann::json::parse(slurp(stats));
+  EXPECT_EQ(json["parameters"]["repeat"], 4);
+  EXPECT_EQ(json["intersection_tests"], 16u);
+  ASSERT_TRUE(json["warm_trace_seconds"].is_number());
+  EXPECT_GT(json["warm_trace_seconds"].get<double>(), 0.0);
+  EXPECT_NEAR(json["warm_rays_per_second"].get<double>(),
+              double(cases.size()) / json["warm_trace_seconds"].get<double>(), 1e-6);
+  expect_failure(run(trace_args(two_triangles(), ray_file("repeat0.rays", rays_of(cases)),
+                                temp_path("repeat0.hits")) +
+                     " --repeat 0"),
+                 2, "--repeat");
 }
 
 TEST(Cli, BadInputExitsOneNamingTheFile) {
