@@ -372,8 +372,10 @@ uint32_t Grid1D::descend(uint32_t id, double t_cur, int entered_axis, RayWalk& w
       if (int(b) == entered_axis) {
         local = walk.step[b] > 0 ? 0 : g - 1;
       } else {
+        // Clamped first, then truncated: truncation is floor for what is left, and much
+        // cheaper than std::floor on baseline x86-64 (no SSE4.1 round instruction).
         const double p = walk.origin[b] + t_cur * walk.dir[b];
-        const double cell = std::floor((p - info.origin) * info.scale) - double(first);
+        const double cell = (p - info.origin) * info.scale - double(first);
         local = int64_t(std::clamp(cell, 0.0, double(g - 1)));
       }
       values.index = first + local;
