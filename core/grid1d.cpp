@@ -308,7 +308,10 @@ Hit Grid1D::trace(const Ray& ray, Context& context) const {
     }
     leaf = moved.first_child + uint32_t(local);
     status = voxels_[leaf].status.load(std::memory_order_acquire);
-    if (status != kLeaf) leaf = descend(leaf, t_exit, s, walk, context, status);
+    if (status != kLeaf)
+      leaf = descend(leaf, t_exit, s, walk, context, status);
+    else if (voxels_[leaf].tri_count == 0)
+      leaf = cross_empty_run(leaf, s, moved.state, walk, context);
   }
   return best;
 }
@@ -341,6 +344,27 @@ bool Grid1D::test_leaf(uint32_t id, uint8_t status, const PreparedRay<KernelReal
     }
   }
   return found;
+}
+
+// The walk has just stepped along axis s into an empty cell of a 1D array: it crosses the
+// following empty cells of the same array in one go, up to the last one it enters before
+// reaching a wall on another axis. Nothing in them can be hit, and the ray's slab on each
+// grid stays what the cell-by-cell walk would have made it (an acceleration of §5.3's
+// horizontal traversal that leaves the structure as the paper's).
+uint32_t Grid1D::cross_empty_run(uint32_t cell, int s, uint32_t state, RayWalk& walk,
+                                 Context& context) const {
+  const Voxel& empty = voxels_[cell];
+  const uint32_t run = empty.empty_run[walk.step[s] > 0 ? 0 : 1];
+  const double other_wall = std::min(walk.t_next[(s + 1) % 3], walk.t_next[(s + 2) % 3]);
+  Context::StateValues& values = context.states[state];
+  uint32_t crossed = 0;
+  while (crossed + 1 < run && walk.t_next[s] < other_wall) {
+    ++crossed;
+    values.index += walk.step[s];
+    values.t_next = walk.t_next[s] = values.exit_distance(values.index, walk.step[s]);
+  }
+  context.counters.traversal_steps += crossed;
+  return walk.step[s] > 0 ? cell + crossed : cell - crossed;
 }
 
 // §5.2: from `id`, which the ray occupies at t_cur, down to the leaf containing the ray,
@@ -619,6 +643,13 @@ bool Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
     Voxel& child = voxels_[first_child + i];
     child.tri_begin = uint32_t(tri_base + cut.tri_offsets[i]);
     child.tri_count = cut.tri_offsets[i + 1] - cut.tri_offsets[i];
+    if (child.tri_count == 0) {  // nothing to cut, ever: a leaf from birth
+      child.status.store(kLeaf, std::memory_order_relaxed);
+      child.first_packed = kNone;
+      child.empty_run[1] = i > 0 && voxels_[first_child + i - 1].tri_count == 0
+                               ? voxels_[first_child + i - 1].empty_run[1] + 1
+                               : 1;
+    }
     Region& region = regions_[first_child + i];
     region = parent;
     region.cell[axis] = parent.cell[axis] * g + i;
@@ -628,6 +659,13 @@ bool Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
     region.sample_begin = uint32_t(sample_base + cut.sample_offsets[i]);
     region.sample_count = cut.sample_offsets[i + 1] - cut.sample_offsets[i];
     region.area_rays = cut.rays * area_share;
+  }
+  for (size_t i = g; i-- > 0;) {
+    Voxel& child = voxels_[first_child + i];
+    if (child.tri_count == 0)
+      child.empty_run[0] = i + 1 < g && voxels_[first_child + i + 1].tri_count == 0
+                               ? voxels_[first_child + i + 1].empty_run[0] + 1
+                               : 1;
   }
   Voxel& voxel = voxels_[id];
   voxel.axis = uint8_t(axis);

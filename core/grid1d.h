@@ -55,11 +55,17 @@ class Grid1D final : public Accelerator {
     uint16_t granularity;  // g: cells of this voxel's 1D array
     uint32_t state;        // traversal state (axis, absolute granularity)
     uint32_t tri_begin, tri_count;
-    union {                   // one or the other, by status (keeps the voxel at 40 bytes)
+    // Unions: one member or the other by status, keeping the voxel at 40 bytes.
+    union {
       uint32_t first_child;   // kSplit: the g cells are voxels first_child .. + g - 1
       uint32_t first_packed;  // kLeaf: its triangles at packed_[first_packed ..], or kNone
     };
-    uint32_t above[3];    // nearest proper ancestor cut along each axis, or kNone
+    union {
+      uint32_t above[3];  // kSplit: nearest proper ancestor cut along each axis, or kNone
+      // An empty cell (a leaf from birth): how many cells from this one on are empty,
+      // going up [0] and down [1] its parent's array. The walk crosses them in one go.
+      uint32_t empty_run[2];
+    };
     uint64_t first_cell;  // J0: index of cell 0 on the state's global grid
   };
   // A leaf's triangle as the kernel reads it, stored with the leaf's others so that a
@@ -92,6 +98,8 @@ class Grid1D final : public Accelerator {
   uint32_t descend(uint32_t voxel, double t_cur, int entered_axis, RayWalk& walk, Context& context,
                    uint8_t& status) const;
   uint8_t examine(uint32_t voxel, Context& context) const;
+  uint32_t cross_empty_run(uint32_t cell, int s, uint32_t state, RayWalk& walk,
+                           Context& context) const;
   uint32_t pack_leaf(uint32_t voxel) const;
   template <bool AnyHit>
   bool test_leaf(uint32_t voxel, uint8_t status, const PreparedRay<KernelReal>& prepared,
