@@ -19,12 +19,12 @@ std::unique_ptr<ThreadContext> BruteForce::make_context() const {
   return std::make_unique<ThreadContext>();
 }
 
-template <bool AnyHit>
-Hit BruteForce::trace(const Ray& ray, ThreadContext& context) const {
+template <class Real, bool AnyHit>
+Hit BruteForce::trace(const Ray& ray, ThreadContext* context) const {
   Hit best;
   double t_enter, t_leave;
   if (!clip_box_.clip(ray, t_enter, t_leave)) return best;
-  const PreparedRay<KernelReal> prepared(ray, t_enter);
+  const PreparedRay<Real> prepared(ray, t_enter);
   float tmax = ray.tmax;
   for (const uint32_t id : usable_) {
     const TriangleVerts& tri = triangles_[id];
@@ -36,16 +36,20 @@ Hit BruteForce::trace(const Ray& ray, ThreadContext& context) const {
       if (AnyHit) break;
     }
   }
-  context.counters.intersection_tests += usable_.size();
+  if (context) context->counters.intersection_tests += usable_.size();
   return best;
 }
 
 Hit BruteForce::intersect(const Ray& ray, ThreadContext& context) const {
-  return trace<false>(ray, context);
+  return trace<KernelReal, false>(ray, &context);
 }
 
 Hit BruteForce::any_hit(const Ray& ray, ThreadContext& context) const {
-  return trace<true>(ray, context);
+  return trace<KernelReal, true>(ray, &context);
+}
+
+Hit BruteForce::intersect_long_double(const Ray& ray) const {
+  return trace<long double, false>(ray, nullptr);
 }
 
 StructureStats BruteForce::stats() const {
@@ -57,25 +61,6 @@ StructureStats BruteForce::stats() const {
   s.memory_bytes = triangles_.size() * sizeof(TriangleVerts) + usable_.size() * sizeof(uint32_t);
   s.build_seconds = build_seconds_;
   return s;
-}
-
-Hit brute_force_long_double(const std::vector<TriangleVerts>& triangles, const ClipBox& box,
-                            const Ray& ray) {
-  Hit best;
-  double t_enter, t_leave;
-  if (!box.clip(ray, t_enter, t_leave)) return best;
-  const PreparedRay<long double> prepared(ray, t_enter);
-  float tmax = ray.tmax;
-  for (uint32_t id = 0; id < triangles.size(); ++id) {
-    const TriangleVerts& tri = triangles[id];
-    float t, u, v;
-    if (!intersect_triangle(prepared, tri.v0, tri.v1, tri.v2, tmax, t, u, v)) continue;
-    if (closer(t, int32_t(id), best)) {
-      best = {int32_t(id), t, u, v};
-      tmax = t;
-    }
-  }
-  return best;
 }
 
 }  // namespace gs

@@ -17,10 +17,13 @@ class BruteForce final : public Accelerator {
   Hit intersect(const Ray& ray, ThreadContext& context) const override;
   Hit any_hit(const Ray& ray, ThreadContext& context) const override;
   StructureStats stats() const override;
+  // The same search with the kernel instantiated for long double, one step wider than the
+  // kernel's own arithmetic: checks the kernel itself.
+  Hit intersect_long_double(const Ray& ray) const;
 
  private:
-  template <bool AnyHit>
-  Hit trace(const Ray& ray, ThreadContext& context) const;
+  template <class Real, bool AnyHit>
+  Hit trace(const Ray& ray, ThreadContext* context) const;
 
   std::vector<TriangleVerts> triangles_;
   std::vector<uint32_t> usable_;  // ids of the non-degenerate triangles
@@ -28,10 +31,5 @@ class BruteForce final : public Accelerator {
   ClipBox clip_box_;
   double build_seconds_ = 0.0;
 };
-
-// The same search with the kernel instantiated for long double, one step wider than the
-// kernel's own arithmetic: checks the kernel itself. The nearest hit as that kernel sees it.
-Hit brute_force_long_double(const std::vector<TriangleVerts>& triangles, const ClipBox& box,
-                            const Ray& ray);
 
 }  // namespace gs

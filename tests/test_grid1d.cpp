@@ -97,19 +97,25 @@ std::string preset_name(const testing::TestParamInfo<Preset>& info) {
 
 class Grid1DMatchesBrute : public testing::TestWithParam<Preset> {};
 
+// The preset's structure over the case's scene; half the presets (the two-thread ones) run
+// the sampling pass first, as the command line does.
+std::unique_ptr<Grid1D> preset_grid(const Preset& preset, const Case& c) {
+  AccelParams params;
+  params.max_granularity = preset.max_granularity;
+  params.axis = preset.axis;
+  auto grid = std::make_unique<Grid1D>(params);
+  grid->build(c.scene);
+  if (preset.threads == 2) test::run_sampling_pass(*grid, c.rays, 64);
+  if (preset.eager) grid->build_all();
+  return grid;
+}
+
 TEST_P(Grid1DMatchesBrute, SameIdAndTOnEveryRay) {
   const Preset& preset = GetParam();
   size_t checked = 0;
   for (const Case& c : cases()) {
-    AccelParams params;
-    params.max_granularity = preset.max_granularity;
-    params.axis = preset.axis;
-    Grid1D grid(params);
-    grid.build(c.scene);
-    // Half the presets run the sampling pass first, as the command line does.
-    if (preset.threads == 2) test::run_sampling_pass(grid, c.rays, 64);
-    if (preset.eager) grid.build_all();
-    const std::vector<Hit> hits = test::trace_all(grid, c.rays, preset.threads);
+    const auto grid = preset_grid(preset, c);
+    const std::vector<Hit> hits = test::trace_all(*grid, c.rays, preset.threads);
     size_t mismatches = 0;
     for (size_t i = 0; i < hits.size(); ++i) {
       if (hits[i] == c.expected[i]) continue;
@@ -118,7 +124,7 @@ TEST_P(Grid1DMatchesBrute, SameIdAndTOnEveryRay) {
                       << hits[i].t << ", brute id " << c.expected[i].id << " t " << c.expected[i].t;
     }
     EXPECT_EQ(mismatches, 0u) << c.name;
-    const StructureStats stats = grid.stats();
+    const StructureStats stats = grid->stats();
     EXPECT_GT(*stats.voxels_subdivided, 0u) << c.name << ": the grid never subdivided";
     checked += hits.size();
   }
@@ -128,13 +134,8 @@ TEST_P(Grid1DMatchesBrute, SameIdAndTOnEveryRay) {
 TEST_P(Grid1DMatchesBrute, AnyHitAgreesWithNearestHit) {
   const Preset& preset = GetParam();
   for (const Case& c : cases()) {
-    AccelParams params;
-    params.max_granularity = preset.max_granularity;
-    params.axis = preset.axis;
-    Grid1D grid(params);
-    grid.build(c.scene);
-    if (preset.eager) grid.build_all();
-    const std::vector<Hit> hits = test::trace_all(grid, c.rays, preset.threads, true);
+    const auto grid = preset_grid(preset, c);
+    const std::vector<Hit> hits = test::trace_all(*grid, c.rays, preset.threads, true);
     size_t mismatches = 0;
     for (size_t i = 0; i < hits.size(); ++i) {
       const bool ok =

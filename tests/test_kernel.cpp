@@ -62,8 +62,6 @@ TEST(Kernel, InvalidRaysMiss) {
 TEST(Kernel, AgreesWithItsLongDoubleInstantiation) {
   const Scene scene = test::merge(test::make_sphere({0.2f, 0.1f, -0.3f}, 1.0f, 20, 40),
                                   test::make_soup(5, 800, glm::vec3(-1.5f), glm::vec3(1.5f), 0.2f));
-  const std::vector<TriangleVerts> triangles = gather_triangles(scene);
-  const ClipBox box(scene.bounds());
   BruteForce brute;
   brute.build(scene);
   std::vector<Ray> rays = test::random_chords(scene.bounds(), 9, 20000);
@@ -72,7 +70,7 @@ TEST(Kernel, AgreesWithItsLongDoubleInstantiation) {
   const std::vector<Hit> hits = test::trace_all(brute, rays, 2);
   size_t compared = 0;
   for (size_t i = 0; i < rays.size(); ++i) {
-    const Hit exact = brute_force_long_double(triangles, box, rays[i]);
+    const Hit exact = brute.intersect_long_double(rays[i]);
     const float w0 = 1.0f - exact.u - exact.v;
     if (exact.found() && std::min({w0, exact.u, exact.v}) <= 1e-4f) continue;
     ++compared;
