@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "core/cost_model.h"
 
@@ -181,6 +182,8 @@ void Grid1D::build(const Scene& scene) {
 }
 
 void Grid1D::sample(std::span<const Ray> sample_rays, double rays_in_run) {
+  if (voxels_[0].status.load() != kUnexamined)
+    throw std::logic_error("Grid1D::sample must come before any tracing or build_all");
   const auto start = Clock::now();
   for (const Ray& ray : sample_rays) {
     SampleRay s{};

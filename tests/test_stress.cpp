@@ -172,6 +172,25 @@ TEST(Stress, EmptySceneOneTriangleAndNoRays) {
   EXPECT_EQ(disagreements(one, mixed_rays(one)), 0u);
 }
 
+// A budget too small for the structure leaves voxels uncut (and says so); the answers stay
+// brute's.
+TEST(Stress, MemoryBudgetLeavesVoxelsUncutButAnswersStayExact) {
+  const Scene scene = sphere_and_soup();
+  AccelParams params;
+  params.memory_budget = 64 << 10;
+  EXPECT_EQ(disagreements(scene, mixed_rays(scene), params), 0u);
+  Grid1D grid(params);
+  grid.build(scene);
+  grid.build_all();
+  const StructureStats stats = grid.stats();
+  EXPECT_GT(stats.voxels_over_budget, 0u);
+  // The budget covers what the cuts allocate; the triangles, their boxes and the state
+  // table come on top.
+  const uint64_t fixed = scene.triangle_count() * (sizeof(TriangleVerts) + 6 * sizeof(double)) +
+                         grid.state_count() * sizeof(Grid1D::StateInfo);
+  EXPECT_LE(stats.memory_bytes, fixed + params.memory_budget);
+}
+
 // Rays that see only one corner of a large scene build a small part of what --eager does.
 TEST(Laziness, PartialViewBuildsFarFewerNodes) {
   const Scene scene = test::make_soup(17, 60000, glm::vec3(-10.0f), glm::vec3(10.0f), 0.1f);
