@@ -23,7 +23,8 @@ namespace {
 constexpr const char* kUsage = R"(usage: gridscope COMMAND ...
 
   gridscope trace  SCENE --rays FILE --out FILE [--accel NAME] [--threads N]
-                   [--stats FILE.json] [--eager] [--occluded] [--repeat N] [STRUCTURE FLAGS]
+                   [--stats FILE.json] [--eager] [--occluded] [--repeat N]
+                   [--walk I --walk-out FILE.json] [STRUCTURE FLAGS]
   gridscope render SCENE --out FILE.png [--size WxH] [--camera STRING] [--spp N]
                    [--accel NAME] [--threads N] [--stats FILE.json] [STRUCTURE FLAGS]
   gridscope export SCENE --out FILE.obj
@@ -143,12 +144,6 @@ Flag threads_flag(int& threads) {
           }};
 }
 
-Flag not_yet_flag(const std::string& command, const char* name) {
-  return {name, true, [command, name](const std::string&) {
-            throw UsageError(command + " " + name + " is not available in this build yet");
-          }};
-}
-
 // Applies the flags met in words (--name VALUE, --name=VALUE or a --switch, in any order)
 // and returns the positional words. Any word starting with '-' is a flag, so a value that
 // starts with '-' must follow its flag.
@@ -204,11 +199,16 @@ int trace_command(std::span<const std::string> words) {
                 {"--occluded", false, [&job](const std::string&) { job.occluded = true; }},
                 {"--repeat", true,
                  [&job](const std::string& v) { job.repeat = parse_int("--repeat", v, 1, 1000); }},
-                not_yet_flag("trace", "--walk"),
-                not_yet_flag("trace", "--walk-out")});
+                {"--walk", true,
+                 [&job](const std::string& v) {
+                   job.walk_ray = parse_int("--walk", v, 0, std::numeric_limits<int>::max());
+                 }},
+                string_flag("--walk-out", job.walk_path)});
   job.scene = scene_argument("trace", parse_words("trace", words, flags));
   require("trace", "--rays FILE", job.rays_path);
   require("trace", "--out FILE", job.out_path);
+  if ((job.walk_ray >= 0) != !job.walk_path.empty())
+    throw UsageError("trace: --walk I and --walk-out FILE.json go together");
   run_trace(job);
   return 0;
 }

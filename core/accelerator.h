@@ -12,6 +12,7 @@
 
 #include "core/ray.h"
 #include "core/scene.h"
+#include "core/walk.h"
 
 namespace gs {
 
@@ -90,6 +91,11 @@ class Accelerator {
     return any_hit(ray, context).found();
   }
   virtual StructureStats stats() const = 0;
+  // The nearest-hit search for one ray, cell by cell, by the same code that traces; for a
+  // structure without cells to walk (brute), nothing.
+  virtual std::optional<Walk> record_walk(const Ray& /*ray*/, ThreadContext& /*context*/) const {
+    return std::nullopt;
+  }
 };
 
 std::vector<std::string> accelerator_names();

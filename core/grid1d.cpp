@@ -126,6 +126,48 @@ struct Grid1D::RayWalk {
   uint64_t ray_id;
 };
 
+// The timed path's recorder: every hook compiles to nothing.
+struct NullRecorder {
+  void descent(uint32_t /*voxel*/, int64_t /*cell*/, StateCase /*state_case*/) {}
+  void cell(uint32_t /*voxel*/, double /*t_enter*/, int /*axis*/, uint32_t /*climbed*/) {}
+  void tested() {}
+  void rejected() {}
+  void searched(int32_t /*best*/) {}
+};
+
+// Fills a Walk from the hooks the traversal calls (DESIGN.md §2: the viewer's walk is the
+// same code that renders).
+class Grid1D::WalkRecorder {
+ public:
+  WalkRecorder(const Grid1D& grid, Walk& walk) : grid_(grid), walk_(walk) {}
+  void descent(uint32_t voxel, int64_t cell, StateCase state_case) {
+    const Voxel& v = grid_.voxels_[voxel];
+    pending_.push_back({voxel, grid_.regions_[voxel].depth, v.axis, v.granularity,
+                        grid_.states_[v.state].granularity, v.state, cell, state_case});
+  }
+  void cell(uint32_t voxel, double t_enter, int axis, uint32_t climbed) {
+    WalkCell cell;
+    cell.voxel = voxel;
+    cell.depth = grid_.regions_[voxel].depth;
+    grid_.voxel_box(voxel, cell.lo, cell.hi);
+    cell.t_enter = t_enter;
+    cell.entered_axis = axis;
+    cell.climbed = climbed;
+    cell.descents = std::move(pending_);
+    pending_.clear();
+    cell.hit = walk_.cells.empty() ? -1 : walk_.cells.back().hit;
+    walk_.cells.push_back(std::move(cell));
+  }
+  void tested() { ++walk_.cells.back().tests; }
+  void rejected() { ++walk_.cells.back().rejections; }
+  void searched(int32_t best) { walk_.cells.back().hit = best; }
+
+ private:
+  const Grid1D& grid_;
+  Walk& walk_;
+  std::vector<WalkDescent> pending_;
+};
+
 Grid1D::Grid1D(const AccelParams& params)
     : params_(params),
       voxels_(params.memory_budget),
@@ -205,7 +247,8 @@ void Grid1D::sample(std::span<const Ray> sample_rays, double rays_in_run) {
   // thread), so every cut it makes is a function of the sample alone.
   Context context;
   for (SampleRay& s : sample_) {
-    const Hit hit = trace<false>(s.ray, context);
+    NullRecorder none;
+    const Hit hit = trace<false>(s.ray, context, none);
     if (hit.found()) s.t1 = std::min(s.t1, double(hit.t));
   }
   build_seconds_ += seconds_since(start);
@@ -230,18 +273,28 @@ void Grid1D::build_all() {
 std::unique_ptr<ThreadContext> Grid1D::make_context() const { return std::make_unique<Context>(); }
 
 Hit Grid1D::intersect(const Ray& ray, ThreadContext& context) const {
-  return trace<false>(ray, static_cast<Context&>(context));
+  NullRecorder none;
+  return trace<false>(ray, static_cast<Context&>(context), none);
 }
 
 Hit Grid1D::any_hit(const Ray& ray, ThreadContext& context) const {
-  return trace<true>(ray, static_cast<Context&>(context));
+  NullRecorder none;
+  return trace<true>(ray, static_cast<Context&>(context), none);
+}
+
+std::optional<Walk> Grid1D::record_walk(const Ray& ray, ThreadContext& context) const {
+  Walk walk;
+  walk.ray = ray;
+  WalkRecorder recorder(*this, walk);
+  walk.hit = trace<false>(ray, static_cast<Context&>(context), recorder);
+  return walk;
 }
 
 // §5: clip the ray to the scene box, descend to the leaf where it enters (vertical
 // traversal), then step cell by cell along the axis whose next wall is nearest
 // (horizontal traversal), climbing to the voxel above when a step leaves a 1D array.
-template <bool AnyHit>
-Hit Grid1D::trace(const Ray& ray, Context& context) const {
+template <bool AnyHit, class Recorder>
+Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
   Hit best;
   double t_enter, t_leave;
   if (!root_.clip(ray, t_enter, t_leave)) return best;
@@ -271,10 +324,13 @@ Hit Grid1D::trace(const Ray& ray, Context& context) const {
   float tmax = ray.tmax;
   TraceCounters& counters = context.counters;
   uint8_t status;
-  uint32_t leaf = descend(0, t_enter, -1, walk, context, status);
+  uint32_t leaf = descend(0, t_enter, -1, walk, context, status, recorder);
+  recorder.cell(leaf, t_enter, -1, 0);
   for (;;) {
-    if (test_leaf<AnyHit>(leaf, status, prepared, walk.ray_id, tmax, best, context) && AnyHit)
-      return best;
+    const bool found =
+        test_leaf<AnyHit>(leaf, status, prepared, walk.ray_id, tmax, best, context, recorder);
+    recorder.searched(best.id);
+    if (AnyHit && found) return best;
     // Leave the cell through its nearest wall, unless the nearest hit lies before it.
     // Written as selects, not branches: which axis comes next is unpredictable.
     const bool y_first = walk.t_next[1] < walk.t_next[0];
@@ -286,7 +342,8 @@ Hit Grid1D::trace(const Ray& ray, Context& context) const {
     // Step one cell on axis s; climb while the step leaves the current 1D array (§5.3).
     uint32_t id = walk.active[s];
     uint64_t local = 0;
-    for (;; id = voxels_[id].above[s]) {
+    uint32_t climbed = 0;
+    for (;; id = voxels_[id].above[s], ++climbed) {
       if (id == kNone) return best;  // left the scene
       const Voxel& up = voxels_[id];
       Context::StateValues& values = context.states[up.state];
@@ -311,19 +368,21 @@ Hit Grid1D::trace(const Ray& ray, Context& context) const {
     }
     leaf = moved.first_child + uint32_t(local);
     status = voxels_[leaf].status.load(std::memory_order_acquire);
-    if (status != kLeaf)
-      leaf = descend(leaf, t_exit, s, walk, context, status);
-    else if (voxels_[leaf].tri_count == 0)
-      leaf = cross_empty_run(leaf, s, moved.state, walk, context);
+    const bool stepped_into_leaf = status == kLeaf;
+    if (!stepped_into_leaf) leaf = descend(leaf, t_exit, s, walk, context, status, recorder);
+    recorder.cell(leaf, t_exit, s, climbed);
+    if (stepped_into_leaf && voxels_[leaf].tri_count == 0)
+      leaf = cross_empty_run(leaf, s, moved.state, walk, context, recorder);
   }
   return best;
 }
 
 // Tests the leaf's triangles not yet tested by this ray; true when one is hit. A leaf
 // another thread is still cutting (kBuilding) is read through its id list.
-template <bool AnyHit>
+template <bool AnyHit, class Recorder>
 bool Grid1D::test_leaf(uint32_t id, uint8_t status, const PreparedRay<KernelReal>& prepared,
-                       uint64_t ray_id, float& tmax, Hit& best, Context& context) const {
+                       uint64_t ray_id, float& tmax, Hit& best, Context& context,
+                       Recorder& recorder) const {
   const Voxel& voxel = voxels_[id];
   const bool packed = status == kLeaf && voxel.first_packed != kNone;
   TraceCounters& counters = context.counters;
@@ -333,9 +392,11 @@ bool Grid1D::test_leaf(uint32_t id, uint8_t status, const PreparedRay<KernelReal
     const uint32_t tri_id = packed ? record->id : tri_indices_[voxel.tri_begin + i];
     if (!(packed && record->only_here) && context.already_tested(tri_id, ray_id)) {
       ++counters.mailbox_rejections;
+      recorder.rejected();
       continue;
     }
     ++counters.intersection_tests;
+    recorder.tested();
     const TriangleVerts& tri = packed ? record->verts : triangles_[tri_id];
     float t, u, v;
     if (intersect_triangle(prepared, tri.v0, tri.v1, tri.v2, tmax, t, u, v) &&
@@ -354,8 +415,9 @@ bool Grid1D::test_leaf(uint32_t id, uint8_t status, const PreparedRay<KernelReal
 // reaching a wall on another axis. Nothing in them can be hit, and the ray's slab on each
 // grid stays what the cell-by-cell walk would have made it (an acceleration of §5.3's
 // horizontal traversal that leaves the structure as the paper's).
+template <class Recorder>
 uint32_t Grid1D::cross_empty_run(uint32_t cell, int s, uint32_t state, RayWalk& walk,
-                                 Context& context) const {
+                                 Context& context, Recorder& recorder) const {
   const Voxel& empty = voxels_[cell];
   const uint32_t run = empty.empty_run[walk.step[s] > 0 ? 0 : 1];
   const double other_wall = std::min(walk.t_next[(s + 1) % 3], walk.t_next[(s + 2) % 3]);
@@ -363,6 +425,7 @@ uint32_t Grid1D::cross_empty_run(uint32_t cell, int s, uint32_t state, RayWalk& 
   uint32_t crossed = 0;
   while (crossed + 1 < run && walk.t_next[s] < other_wall) {
     ++crossed;
+    recorder.cell(walk.step[s] > 0 ? cell + crossed : cell - crossed, walk.t_next[s], s, 0);
     values.index += walk.step[s];
     values.t_next = walk.t_next[s] = values.exit_distance(values.index, walk.step[s]);
   }
@@ -374,8 +437,9 @@ uint32_t Grid1D::cross_empty_run(uint32_t cell, int s, uint32_t state, RayWalk& 
 // setting each passed voxel's traversal state. The §5.2.2 cases: a state this ray used
 // and has not yet left needs nothing; entering through a wall on the voxel's own axis puts
 // the ray in the first or last cell (figure 7); otherwise the cell comes from the point.
+template <class Recorder>
 uint32_t Grid1D::descend(uint32_t id, double t_cur, int entered_axis, RayWalk& walk,
-                         Context& context, uint8_t& status) const {
+                         Context& context, uint8_t& status, Recorder& recorder) const {
   for (;;) {
     const Voxel& voxel = voxels_[id];
     status = voxel.status.load(std::memory_order_acquire);
@@ -388,8 +452,10 @@ uint32_t Grid1D::descend(uint32_t id, double t_cur, int entered_axis, RayWalk& w
     Context::StateValues& values = context.state(voxel.state);
     int64_t local = values.index - first;
     const bool used_by_ray = values.stamp == walk.ray_id;
+    StateCase state_case = StateCase::reused;
     if (!used_by_ray || values.t_next <= t_cur || local < 0 || local >= g ||
         int(b) == entered_axis) {
+      state_case = used_by_ray ? StateCase::index_only : StateCase::reinitialised;
       const StateInfo& info = states_[voxel.state];
       if (!used_by_ray) {
         values.stamp = walk.ray_id;
@@ -409,6 +475,7 @@ uint32_t Grid1D::descend(uint32_t id, double t_cur, int entered_axis, RayWalk& w
       values.t_next = walk.step[b] == 0 ? kInf : values.exit_distance(values.index, walk.step[b]);
     }
     walk.active[b] = id, walk.active_state[b] = voxel.state, walk.t_next[b] = values.t_next;
+    recorder.descent(id, local, state_case);
     id = voxel.first_child + uint32_t(local);
   }
 }

@@ -30,6 +30,7 @@ class Grid1D final : public Accelerator {
   Hit intersect(const Ray& ray, ThreadContext& context) const override;
   Hit any_hit(const Ray& ray, ThreadContext& context) const override;
   StructureStats stats() const override;
+  std::optional<Walk> record_walk(const Ray& ray, ThreadContext& context) const override;
 
   static constexpr uint32_t kNone = UINT32_MAX;  // "no voxel above": the scene box itself
 
@@ -92,18 +93,22 @@ class Grid1D final : public Accelerator {
   struct Cut;
   struct SampleRay;
   struct RayWalk;
+  class WalkRecorder;
 
-  template <bool AnyHit>
-  Hit trace(const Ray& ray, Context& context) const;
+  template <bool AnyHit, class Recorder>
+  Hit trace(const Ray& ray, Context& context, Recorder& recorder) const;
+  template <class Recorder>
   uint32_t descend(uint32_t voxel, double t_cur, int entered_axis, RayWalk& walk, Context& context,
-                   uint8_t& status) const;
+                   uint8_t& status, Recorder& recorder) const;
   uint8_t examine(uint32_t voxel, Context& context) const;
-  uint32_t cross_empty_run(uint32_t cell, int s, uint32_t state, RayWalk& walk,
-                           Context& context) const;
+  template <class Recorder>
+  uint32_t cross_empty_run(uint32_t cell, int s, uint32_t state, RayWalk& walk, Context& context,
+                           Recorder& recorder) const;
   uint32_t pack_leaf(uint32_t voxel) const;
-  template <bool AnyHit>
+  template <bool AnyHit, class Recorder>
   bool test_leaf(uint32_t voxel, uint8_t status, const PreparedRay<KernelReal>& prepared,
-                 uint64_t ray_id, float& tmax, Hit& best, Context& context) const;
+                 uint64_t ray_id, float& tmax, Hit& best, Context& context,
+                 Recorder& recorder) const;
   Cut plan_cut(uint32_t voxel) const;
   bool sort_into_cells(uint32_t voxel, int axis, int g, const double lo[3], const double hi[3],
                        Cut& cut) const;

@@ -50,6 +50,17 @@ double prepare(Accelerator& accel, const Scene& scene, const std::vector<Ray>& r
   return seconds;
 }
 
+// Re-traces ray job.walk_ray with the recorder, on the structure the run built.
+void write_walk(const Accelerator& accel, const std::vector<Ray>& rays, const TraceJob& job) {
+  if (size_t(job.walk_ray) >= rays.size())
+    fail_input(job.rays_path, "has " + std::to_string(rays.size()) + " rays, so --walk " +
+                                  std::to_string(job.walk_ray) + " is out of range");
+  const std::unique_ptr<ThreadContext> context = accel.make_context();
+  const std::optional<Walk> walk = accel.record_walk(rays[size_t(job.walk_ray)], *context);
+  if (!walk) throw UsageError("--walk: structure '" + accel.name() + "' has no cells to walk");
+  write_json(job.walk_path, to_json(*walk));
+}
+
 }  // namespace
 
 int default_thread_count() {
@@ -119,6 +130,7 @@ nlohmann::json run_trace(const TraceJob& job) {
   std::vector<double> warm;
   for (int k = 1; k < job.repeat; ++k) warm.push_back(pass());
   write_hits(job.out_path, hits);
+  if (job.walk_ray >= 0) write_walk(*accel, rays, job);
 
   nlohmann::json stats = run_stats(scene, *accel, trace_parameters(job), figures);
   stats["warm_trace_seconds"] = nullptr;

@@ -30,6 +30,9 @@ struct TraceJob {
   // Passes over the rays: the first builds lazily; the others (warm) are timed apart, their
   // median reported as warm_trace_seconds / warm_rays_per_second (null for one pass).
   int repeat = 1;
+  // With walk_ray >= 0: that ray's walk, recorded after the run, is written to walk_path.
+  int64_t walk_ray = -1;
+  std::string walk_path;
 };
 
 // Makes the accelerator (so a usage error is reported before any file is read), loads the

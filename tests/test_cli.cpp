@@ -351,6 +351,39 @@ TEST(Cli, ExportWritesEveryTriangle) {
   EXPECT_EQ(faces, 4096);
 }
 
+// `trace --walk 5` re-traces ray 5 ("from above", hand-computed: id 1 at t = 3) with the
+// recorder: the walk ends on that hit, cell after cell.
+TEST(Cli, WalkOfOneRayEndsOnItsHit) {
+  const std::vector<Case> cases = hand_cases();
+  const std::string rays = ray_file("walk.rays", rays_of(cases));
+  const std::string walk = temp_path("walk.json");
+  const Outcome result = run(trace_args(two_triangles(), rays, temp_path("walk.hits")) +
+                             " --accel grid1d --walk 5 --walk-out " + quoted(walk));
+  ASSERT_EQ(result.status, 0) << result.err;
+  const nlohmann::json json = nlohmann::json::parse(slurp(walk));
+  EXPECT_EQ(json["hit"]["id"], 1);
+  EXPECT_FLOAT_EQ(json["hit"]["t"].get<float>(), 3.0f);
+  EXPECT_EQ(json["ray"]["origin"][2], 5.0f);
+  const nlohmann::json& cells = json["cells"];
+  ASSERT_GE(cells.size(), 1u);
+  EXPECT_EQ(json["steps"], cells.size() - 1);
+  EXPECT_EQ(cells.back()["hit"], 1);
+  EXPECT_EQ(cells[0]["entered_axis"], -1);
+  for (const nlohmann::json& cell : cells) {
+    EXPECT_TRUE(cell["descents"].is_array());
+    for (int a = 0; a < 3; ++a) EXPECT_LE(cell["lo"][a], cell["hi"][a]);
+  }
+  // The walk needs cells (brute has none), a ray that exists, and both flags.
+  expect_failure(run(trace_args(two_triangles(), rays, temp_path("walk.hits")) +
+                     " --accel brute --walk 0 --walk-out " + quoted(walk)),
+                 2, "--walk");
+  expect_failure(run(trace_args(two_triangles(), rays, temp_path("walk.hits")) +
+                     " --walk 14 --walk-out " + quoted(walk)),
+                 1, rays);
+  expect_failure(run(trace_args(two_triangles(), rays, temp_path("walk.hits")) + " --walk 0"), 2,
+                 "--walk-out");
+}
+
 // A camera at (0,0,5) looking down -z with a 90° vertical field of view: the centre of pixel
 // (x, y) of a 4x2 image lies at NDC ((x + 0.5) / 2 - 1, 1 - (y + 0.5)), so its ray runs
 // along (2 * ndc_x, ndc_y, -1) (aspect 2, tan 45° = 1).

@@ -8,6 +8,7 @@
 
 #include "core/brute.h"
 #include "core/grid1d.h"
+#include "core/walk.h"
 #include "tests/test_util.h"
 
 namespace gs {
@@ -186,6 +187,63 @@ TEST(Grid1DBuild, LazyTwoThreadsBuildTheSameVoxelsAsEager) {
                    double(grid->voxel(id).granularity)});
     }
   EXPECT_EQ(lazy_cuts, eager_cuts);
+}
+
+}  // namespace
+}  // namespace gs
+
+namespace gs {
+namespace {
+
+// The recorded walk is the traversal's own: it ends on intersect()'s hit, its cells are
+// boxes the ray really passes through, one after the other through shared walls, and its
+// counts add up to the run's counters.
+TEST(Grid1DWalk, RecordsTheCellsTheRayCrosses) {
+  const Case& c = cases()[1];
+  Grid1D grid(AccelParams{});
+  grid.build(c.scene);
+  test::run_sampling_pass(grid, c.rays, 64);
+  auto context = grid.make_context();
+  size_t cells = 0, multi_cell = 0;
+  for (size_t i = 0; i < c.rays.size(); i += 7) {
+    const Ray& ray = c.rays[i];
+    const TraceCounters before = context->counters;
+    const std::optional<Walk> walk = grid.record_walk(ray, *context);
+    ASSERT_TRUE(walk);
+    ASSERT_EQ(walk->hit, c.expected[i]) << "ray " << i;
+    const TraceCounters& after = context->counters;
+    uint64_t tests = 0, rejections = 0;
+    for (const WalkCell& cell : walk->cells) tests += cell.tests, rejections += cell.rejections;
+    EXPECT_EQ(tests, after.intersection_tests - before.intersection_tests);
+    EXPECT_EQ(rejections, after.mailbox_rejections - before.mailbox_rejections);
+    if (walk->cells.empty()) continue;
+    EXPECT_EQ(walk->cells.size() - 1, after.traversal_steps - before.traversal_steps);
+    EXPECT_EQ(walk->cells.back().hit, walk->hit.id);
+    cells += walk->cells.size();
+    multi_cell += walk->cells.size() > 1;
+    for (size_t k = 0; k < walk->cells.size(); ++k) {
+      const WalkCell& cell = walk->cells[k];
+      const double t_end = k + 1 < walk->cells.size() ? walk->cells[k + 1].t_enter : cell.t_enter;
+      ASSERT_LE(cell.t_enter, t_end) << "ray " << i << " cell " << k;
+      // The ray's point halfway through the cell lies in the cell's box.
+      const double t_mid = 0.5 * (cell.t_enter + t_end);
+      for (int a = 0; a < 3; ++a) {
+        const double p = double(ray.origin[a]) + t_mid * double(ray.dir[a]);
+        const double slack = 1e-9 * (1.0 + std::fabs(p));
+        EXPECT_GE(p, cell.lo[a] - slack) << "ray " << i << " cell " << k << " axis " << a;
+        EXPECT_LE(p, cell.hi[a] + slack) << "ray " << i << " cell " << k << " axis " << a;
+      }
+      if (k == 0) continue;
+      // Entered through a wall on entered_axis shared with the previous cell.
+      const WalkCell& prev = walk->cells[k - 1];
+      const int a = cell.entered_axis;
+      ASSERT_GE(a, 0);
+      const bool shares_wall = cell.lo[a] == prev.hi[a] || cell.hi[a] == prev.lo[a];
+      EXPECT_TRUE(shares_wall) << "ray " << i << " cell " << k;
+    }
+  }
+  EXPECT_GT(multi_cell, 100u);
+  RecordProperty("cells_recorded", int(cells));
 }
 
 }  // namespace
