@@ -42,6 +42,7 @@ struct TraceCounters {
   uint64_t intersection_tests = 0;  // real ray/triangle tests, mailbox rejections excluded
   uint64_t mailbox_rejections = 0;
   uint64_t traversal_steps = 0;     // cell-to-cell steps
+  uint64_t voxels_built = 0;        // voxels this thread examined (cut or made leaves) lazily
   double lazy_build_seconds = 0.0;  // time this thread spent building voxels
 
   void add(const TraceCounters& other);

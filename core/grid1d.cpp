@@ -489,6 +489,7 @@ uint8_t Grid1D::examine(uint32_t id, Context& context) const {
   const uint8_t status = (cut.granularity >= 2 && commit_cut(id, cut)) ? kSplit : kLeaf;
   if (status == kLeaf) voxels_[id].first_packed = pack_leaf(id);
   voxels_[id].status.store(status, std::memory_order_release);
+  ++context.counters.voxels_built;
   context.counters.lazy_build_seconds += seconds_since(start);
   return status;
 }

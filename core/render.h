@@ -41,8 +41,19 @@ struct Image {
   std::vector<uint8_t> rgba;  // row-major from the top-left pixel, 4 bytes per pixel
 };
 
+// What one pixel's rays cost (summed over its samples, primary and shadow rays) and how far
+// its primary hit is: the data behind the heatmaps and the depth-tested overlays.
+struct PixelRecord {
+  float depth = 0.0f;  // distance of the first sample's primary hit along the view axis
+                       // (camera forward), +inf for background
+  uint32_t steps = 0;  // traversal_steps
+  uint32_t tests = 0;  // intersection_tests
+  uint32_t built = 0;  // voxels_built (lazily, while tracing this pixel)
+};
+
 struct RenderOutcome {
   Image image;
+  std::vector<PixelRecord> pixels;  // width * height, row-major from the top-left
   uint64_t rays = 0;  // primary plus shadow rays
   double seconds = 0.0;
   TraceCounters counters;
