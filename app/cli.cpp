@@ -1,6 +1,7 @@
 #include "app/cli.h"
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -9,6 +10,7 @@
 #include <optional>
 #include <vector>
 
+#include "app/shot.h"
 #include "core/camera.h"
 #include "core/error.h"
 #include "core/ray_io.h"
@@ -27,6 +29,8 @@ constexpr const char* kUsage = R"(usage: gridscope COMMAND ...
                    [--walk I --walk-out FILE.json] [STRUCTURE FLAGS]
   gridscope render SCENE --out FILE.png [--size WxH] [--camera STRING] [--spp N]
                    [--accel NAME] [--threads N] [--stats FILE.json] [STRUCTURE FLAGS]
+  gridscope shot   SCENE --out FILE.png [--size WxH] [--camera STRING] [--spp N]
+                   [--overlay LIST] [--pixel X,Y] [--ui] [--accel NAME] [STRUCTURE FLAGS]
   gridscope export SCENE --out FILE.obj
   gridscope rays   SCENE --out FILE.rays [--size WxH] [--camera STRING]
   gridscope help
@@ -37,8 +41,11 @@ Structure flags (the paper's cost constants and limits):
   --intcost --repcost --travcost --vertcost --subcost X   finite, >= 0
   --max-granularity N (1..4096)   --axis alternate|cost   --max-depth N (1..64)
   --sample-every N (>= 1)         --memory-budget BYTES (suffix K, M or G allowed)
+shot draws the viewer's frame headless (OSMesa); --overlay takes any of
+  cells, states, walk, heat:steps, heat:tests, heat:built (comma-separated);
+  --pixel X,Y picks the walk's pixel (default: the image centre).
 Exit status: 0 success, 1 bad input or failed run, 2 usage error.
-Not in this build yet: view, shot, bench, calibrate.
+Not in this build yet: view, bench, calibrate.
 )";
 
 // A flag and what it does to the job being assembled; `apply` gets "" for a switch.
@@ -233,6 +240,40 @@ int render_command(std::span<const std::string> words) {
   return 0;
 }
 
+// X,Y: two integers; whether they lie inside the image is checked once the size is known.
+std::array<int, 2> parse_pixel(const std::string& text) {
+  const size_t comma = text.find(',');
+  const auto part = [&](const std::string& word) {
+    const std::optional<long long> value = to_integer(word);
+    if (comma == std::string::npos || !value || *value < 0 || *value >= kMaxImageSide)
+      bad_value("--pixel", text, "X,Y, the column and row of a pixel of the image");
+    return int(*value);
+  };
+  return {part(text.substr(0, comma)),
+          part(comma == std::string::npos ? "" : text.substr(comma + 1))};
+}
+
+int shot_command(std::span<const std::string> words) {
+  ShotJob job;
+  Flags flags = structure_flags(job.params);
+  flags.insert(
+      flags.end(),
+      {string_flag("--out", job.out_path),
+       string_flag("--accel", job.accel),
+       {"--size", true, [&job](const std::string& v) { parse_size(v, job.settings); }},
+       {"--camera", true, [&job](const std::string& v) { job.camera = parse_camera(v); }},
+       {"--spp", true,
+        [&job](const std::string& v) { job.settings.spp = parse_int("--spp", v, 1, kMaxSpp); }},
+       {"--overlay", true, [&job](const std::string& v) { parse_overlays(v, job); }},
+       {"--pixel", true, [&job](const std::string& v) { job.pixel = parse_pixel(v); }},
+       {"--ui", false, [&job](const std::string&) { job.ui = true; }}});
+  job.scene = scene_argument("shot", parse_words("shot", words, flags));
+  require("shot", "--out FILE.png", job.out_path);
+  run_shot(job);
+  std::printf("%s\n", job.out_path.c_str());
+  return 0;
+}
+
 int export_command(std::span<const std::string> words) {
   std::string out;
   const Flags flags = {string_flag("--out", out)};
@@ -282,9 +323,10 @@ int run_cli(std::span<const std::string> args) {
   const auto rest = args.subspan(1);
   if (command == "trace") return trace_command(rest);
   if (command == "render") return render_command(rest);
+  if (command == "shot") return shot_command(rest);
   if (command == "export") return export_command(rest);
   if (command == "rays") return rays_command(rest);
-  if (command == "view" || command == "shot" || command == "bench" || command == "calibrate")
+  if (command == "view" || command == "bench" || command == "calibrate")
     throw UsageError("'" + command + "' is not available in this build yet");
   throw UsageError("unknown command '" + command + "'");
 }

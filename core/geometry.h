@@ -73,22 +73,29 @@ struct ClipBox {
   ClipBox() = default;
   explicit ClipBox(const Box& scene);
   // The ray's [tmin, tmax] clipped to the box; false for a ray that misses it or is invalid.
-  bool clip(const Ray& ray, double& t0, double& t1) const {
+  // `inv_dir` receives 1 / dir per axis (infinite for a zero component), for the caller's
+  // walk.
+  bool clip(const Ray& ray, double& t0, double& t1, double inv_dir[3]) const {
     if (empty || !ray_is_valid(ray)) return false;
     const float* origin = &ray.origin.x;
     const float* dir = &ray.dir.x;
     t0 = ray.tmin, t1 = ray.tmax;
     for (int a = 0; a < 3; ++a) {
+      inv_dir[a] = 1.0 / double(dir[a]);
       if (dir[a] == 0.0f) {
         if (origin[a] < lo[a] || origin[a] > hi[a]) return false;
         continue;
       }
-      const double inv = 1.0 / double(dir[a]);
+      const double inv = inv_dir[a];
       double ta = (lo[a] - origin[a]) * inv, tb = (hi[a] - origin[a]) * inv;
       if (ta > tb) std::swap(ta, tb);
       t0 = std::max(t0, ta), t1 = std::min(t1, tb);
     }
     return t0 <= t1;
+  }
+  bool clip(const Ray& ray, double& t0, double& t1) const {
+    double inv_dir[3];
+    return clip(ray, t0, t1, inv_dir);
   }
 };
 
@@ -114,9 +121,9 @@ struct PreparedRay {
     kx = kz == 2 ? 0 : kz + 1;
     ky = kx == 2 ? 0 : kx + 1;
     if (d[kz] < 0.0f) std::swap(kx, ky);  // keep the winding
-    sx = Real(d[kx]) / Real(d[kz]);
-    sy = Real(d[ky]) / Real(d[kz]);
     sz = Real(1) / Real(d[kz]);
+    sx = Real(d[kx]) * sz;  // a product, not a quotient: one division per ray, not three
+    sy = Real(d[ky]) * sz;
   }
 };
 

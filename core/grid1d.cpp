@@ -297,13 +297,12 @@ template <bool AnyHit, class Recorder>
 Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
   Hit best;
   double t_enter, t_leave;
-  if (!root_.clip(ray, t_enter, t_leave)) return best;
   RayWalk walk;
+  if (!root_.clip(ray, t_enter, t_leave, walk.inv_dir)) return best;
   double largest = root_.magnitude, longest = 0.0;
   for (int a = 0; a < 3; ++a) {
     walk.origin[a] = ray.origin[a], walk.dir[a] = ray.dir[a];
     walk.step[a] = walk.dir[a] > 0.0 ? 1 : walk.dir[a] < 0.0 ? -1 : 0;
-    walk.inv_dir[a] = 1.0 / walk.dir[a];
     largest = std::max(largest, std::fabs(walk.origin[a]));
     longest = std::max(longest, std::fabs(walk.dir[a]));
   }

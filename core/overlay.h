@@ -4,11 +4,10 @@
 #pragma once
 #include <array>
 #include <cstdint>
-#include <string>
-#include <vector>
-
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
+#include <string>
+#include <vector>
 
 #include "core/grid1d.h"
 #include "core/walk.h"

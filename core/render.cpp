@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <glm/geometric.hpp>
 
 #include "core/error.h"
@@ -49,13 +50,15 @@ float max_abs(const glm::vec3& p) {
   return std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
 }
 
-// Display-space colour of one primary ray; counts the rays it casts.
+// Display-space colour of one primary ray; counts the rays it casts and reports the primary
+// hit's t (+inf for a miss) for the pixel's depth.
 glm::vec3 shade(const Scene& scene, const Accelerator& accel, ThreadContext& context,
-                const Ray& ray, const Lighting& lighting, uint64_t& rays) {
+                const Ray& ray, const Lighting& lighting, uint64_t& rays, float& hit_t) {
   static const glm::vec3 background =
       glm::vec3(kBackground[0], kBackground[1], kBackground[2]) / 255.0f;
   ++rays;
   const Hit hit = accel.intersect(ray, context);
+  hit_t = hit.t;
   if (!hit.found()) return background;
   const uint32_t id = uint32_t(hit.id);
   const glm::vec3 &a = scene.vertex(id, 0), &b = scene.vertex(id, 1), &c = scene.vertex(id, 2);
@@ -77,18 +80,41 @@ glm::vec3 shade(const Scene& scene, const Accelerator& accel, ThreadContext& con
   return glm::pow(linear, glm::vec3(1.0f / 2.2f));
 }
 
+// A counter difference as a PixelRecord field; saturates rather than wrapping (only a huge
+// spp on a huge scene could exceed it).
+uint32_t count_since(uint64_t now, uint64_t before) {
+  return uint32_t(std::min<uint64_t>(now - before, UINT32_MAX));
+}
+
+// What the pixel's rays cost, from the thread's counters before and after it: the context
+// belongs to this thread alone, so the difference is exactly this pixel's work.
+void record_costs(const TraceCounters& before, const TraceCounters& after, PixelRecord& record) {
+  record.steps = count_since(after.traversal_steps, before.traversal_steps);
+  record.tests = count_since(after.intersection_tests, before.intersection_tests);
+  record.built = count_since(after.voxels_built, before.voxels_built);
+}
+
 void shade_row(const Scene& scene, const Accelerator& accel, ThreadContext& context,
                const Camera& camera, const RenderSettings& settings, const Lighting& lighting,
-               int py, uint8_t* row, uint64_t& rays) {
+               int py, uint8_t* row, PixelRecord* records, uint64_t& rays) {
   const int w = settings.width, h = settings.height, spp = settings.spp;
+  const glm::vec3 forward = camera.forward();
   for (int px = 0; px < w; ++px) {
+    const TraceCounters before = context.counters;
     glm::vec3 sum(0.0f);
     const uint32_t seed = hash(uint32_t(py) * uint32_t(w) + uint32_t(px));
     for (int s = 0; s < spp; ++s) {
       const float jx = spp == 1 ? 0.5f : unit_float(hash(seed ^ hash(2 * uint32_t(s))));
       const float jy = spp == 1 ? 0.5f : unit_float(hash(seed ^ hash(2 * uint32_t(s) + 1)));
-      sum += shade(scene, accel, context, camera.primary_ray(px, py, w, h, jx, jy), lighting, rays);
+      const Ray ray = camera.primary_ray(px, py, w, h, jx, jy);
+      float hit_t = 0.0f;
+      sum += shade(scene, accel, context, ray, lighting, rays, hit_t);
+      // t is in units of the unnormalised direction: its projection on the unit forward
+      // vector turns it into distance along the view axis (what a depth buffer compares).
+      if (s == 0)
+        records[px].depth = std::isinf(hit_t) ? hit_t : hit_t * glm::dot(ray.dir, forward);
     }
+    record_costs(before, context.counters, records[px]);
     const glm::vec3 colour = glm::clamp(sum / float(spp), 0.0f, 1.0f) * 255.0f + 0.5f;
     for (int k = 0; k < 3; ++k) row[4 * px + k] = uint8_t(colour[k]);
     row[4 * px + 3] = 255;
@@ -137,6 +163,7 @@ RenderOutcome render_image(const Scene& scene, const Accelerator& accel, const C
   image.width = settings.width;
   image.height = settings.height;
   image.rgba.resize(size_t(image.width) * size_t(image.height) * 4);
+  outcome.pixels.resize(size_t(image.width) * size_t(image.height));
   const Lighting lighting = make_lighting(scene, camera);
   std::atomic<uint64_t> rays{0};
   outcome.seconds = seconds_of([&] {
@@ -146,7 +173,8 @@ RenderOutcome render_image(const Scene& scene, const Accelerator& accel, const C
                           uint64_t row_rays = 0;
                           for (size_t py = begin; py < end; ++py)
                             shade_row(scene, accel, context, camera, settings, lighting, int(py),
-                                      &image.rgba[py * size_t(image.width) * 4], row_rays);
+                                      &image.rgba[py * size_t(image.width) * 4],
+                                      &outcome.pixels[py * size_t(image.width)], row_rays);
                           rays.fetch_add(row_rays, std::memory_order_relaxed);
                         });
   });

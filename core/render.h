@@ -54,7 +54,7 @@ struct PixelRecord {
 struct RenderOutcome {
   Image image;
   std::vector<PixelRecord> pixels;  // width * height, row-major from the top-left
-  uint64_t rays = 0;  // primary plus shadow rays
+  uint64_t rays = 0;                // primary plus shadow rays
   double seconds = 0.0;
   TraceCounters counters;
 };
