@@ -26,7 +26,7 @@ constexpr const char* kUsage = R"(usage: gridscope COMMAND ...
 
   gridscope trace  SCENE --rays FILE --out FILE [--accel NAME] [--threads N]
                    [--stats FILE.json] [--eager] [--occluded] [--repeat N]
-                   [--walk I --walk-out FILE.json] [STRUCTURE FLAGS]
+                   [--walk I --walk-out FILE.json] [--sample-image WxH] [STRUCTURE FLAGS]
   gridscope render SCENE --out FILE.png [--size WxH] [--camera STRING] [--spp N]
                    [--accel NAME] [--threads N] [--stats FILE.json] [STRUCTURE FLAGS]
   gridscope shot   SCENE --out FILE.png [--size WxH] [--camera STRING] [--spp N]
@@ -97,12 +97,13 @@ uint64_t parse_bytes(const std::string& flag, const std::string& text) {
 }
 
 // WxH, each side 1..kMaxImageSide.
-void parse_size(const std::string& text, RenderSettings& settings) {
+void parse_size(const std::string& text, RenderSettings& settings,
+                const std::string& flag = "--size") {
   const size_t x = text.find('x');
   const auto side = [&](const std::string& part) {
     const std::optional<long long> value = to_integer(part);
     if (x == std::string::npos || !value || *value < 1 || *value > kMaxImageSide)
-      bad_value("--size", text, "WxH with each side 1.." + std::to_string(kMaxImageSide));
+      bad_value(flag, text, "WxH with each side 1.." + std::to_string(kMaxImageSide));
     return int(*value);
   };
   settings.width = side(text.substr(0, x));
@@ -210,7 +211,12 @@ int trace_command(std::span<const std::string> words) {
                  [&job](const std::string& v) {
                    job.walk_ray = parse_int("--walk", v, 0, std::numeric_limits<int>::max());
                  }},
-                string_flag("--walk-out", job.walk_path)});
+                string_flag("--walk-out", job.walk_path),
+                {"--sample-image", true, [&job](const std::string& v) {
+                   RenderSettings size;
+                   parse_size(v, size, "--sample-image");
+                   job.sample_image_width = size.width, job.sample_image_height = size.height;
+                 }}});
   job.scene = scene_argument("trace", parse_words("trace", words, flags));
   require("trace", "--rays FILE", job.rays_path);
   require("trace", "--out FILE", job.out_path);

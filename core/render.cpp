@@ -145,14 +145,21 @@ void check_render_settings(const RenderSettings& settings) {
   check_thread_count(settings.threads);
 }
 
-void sample_image(Accelerator& accel, const Camera& camera, const RenderSettings& settings) {
+std::vector<size_t> image_sample_pixels(int width, int height) {
   constexpr int kBlock = 8;
+  std::vector<size_t> pixels;
+  for (int by = 0; by < height; by += kBlock)
+    for (int bx = 0; bx < width; bx += kBlock)
+      pixels.push_back(size_t(std::min(by + kBlock / 2, height - 1)) * size_t(width) +
+                       size_t(std::min(bx + kBlock / 2, width - 1)));
+  return pixels;
+}
+
+void sample_image(Accelerator& accel, const Camera& camera, const RenderSettings& settings) {
   const int w = settings.width, h = settings.height;
   std::vector<Ray> rays;
-  for (int by = 0; by < h; by += kBlock)
-    for (int bx = 0; bx < w; bx += kBlock)
-      rays.push_back(camera.primary_ray(std::min(bx + kBlock / 2, w - 1),
-                                        std::min(by + kBlock / 2, h - 1), w, h));
+  for (const size_t pixel : image_sample_pixels(w, h))
+    rays.push_back(camera.primary_ray(int(pixel % size_t(w)), int(pixel / size_t(w)), w, h));
   accel.sample(rays, double(w) * double(h) * double(settings.spp));
 }
 

@@ -59,6 +59,10 @@ struct RenderOutcome {
   TraceCounters counters;
 };
 
+// The pixels of an image's sampling pass: the centre pixel of every 8x8 block, as indices
+// y * width + x in row order (also what `trace --sample-image` picks from a ray file).
+std::vector<size_t> image_sample_pixels(int width, int height);
+
 // The paper's sampling pass for an image (DESIGN.md §1 "Cost function"): the primary ray of
 // one pixel in every 8x8 block, standing for all width * height * spp primary rays.
 void sample_image(Accelerator& accel, const Camera& camera, const RenderSettings& settings);

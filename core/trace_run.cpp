@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "core/ray_io.h"
+#include "core/render.h"
 
 namespace gs {
 
@@ -28,6 +29,21 @@ std::vector<Ray> sample_subset(const std::vector<Ray>& rays, int every) {
   return subset;
 }
 
+// The sampling pass's rays: the image's sample pixels, or every sample_every-th ray.
+std::vector<Ray> sample_of(const std::vector<Ray>& rays, const TraceJob& job) {
+  if (job.sample_image_width == 0) return sample_subset(rays, job.params.sample_every);
+  const size_t pixels = size_t(job.sample_image_width) * size_t(job.sample_image_height);
+  if (rays.size() != pixels)
+    fail_input(job.rays_path, "holds " + std::to_string(rays.size()) + " rays, not the " +
+                                  std::to_string(pixels) + " of a " +
+                                  std::to_string(job.sample_image_width) + "x" +
+                                  std::to_string(job.sample_image_height) + " image");
+  std::vector<Ray> subset;
+  for (const size_t pixel : image_sample_pixels(job.sample_image_width, job.sample_image_height))
+    subset.push_back(rays[pixel]);
+  return subset;
+}
+
 nlohmann::json trace_parameters(const TraceJob& job) {
   nlohmann::json parameters = job.params.to_json();
   parameters["threads"] = job.threads;
@@ -43,7 +59,7 @@ double prepare(Accelerator& accel, const Scene& scene, const std::vector<Ray>& r
   double seconds = seconds_of([&] { accel.build(scene); });
   // With no rays there is nothing to sample, and a count of zero rays would mean nothing.
   if (!rays.empty()) {
-    const std::vector<Ray> subset = sample_subset(rays, job.params.sample_every);
+    const std::vector<Ray> subset = sample_of(rays, job);
     seconds += seconds_of([&] { accel.sample(subset, double(rays.size())); });
   }
   if (job.eager) seconds += seconds_of([&] { accel.build_all(); });

@@ -30,6 +30,10 @@ struct TraceJob {
   // Passes over the rays: the first builds lazily; the others (warm) are timed apart, their
   // median reported as warm_trace_seconds / warm_rays_per_second (null for one pass).
   int repeat = 1;
+  // With a size: the ray file holds a width x height image's primary rays (`gridscope rays`)
+  // and the sampling pass takes the image's pixels (one per 8x8 block) as `render`, `shot`
+  // and the viewer do, so the structure is theirs.
+  int sample_image_width = 0, sample_image_height = 0;
   // With walk_ray >= 0: that ray's walk, recorded after the run, is written to walk_path.
   int64_t walk_ray = -1;
   std::string walk_path;

@@ -384,6 +384,24 @@ TEST(Cli, WalkOfOneRayEndsOnItsHit) {
                  "--walk-out");
 }
 
+// --sample-image WxH samples a ray file of that image's primary rays as `render` samples the
+// image; a file of another size is refused naming it.
+TEST(Cli, SampleImageNeedsTheImagesRays) {
+  const std::string rays = temp_path("image.rays");
+  ASSERT_EQ(run("rays builtin:pyramid --size 24x16 --out " + quoted(rays)).status, 0);
+  const std::string stats = temp_path("image.json");
+  const Outcome good = run(trace_args("builtin:pyramid", rays, temp_path("image.hits")) +
+                           " --sample-image 24x16 --stats " + quoted(stats));
+  ASSERT_EQ(good.status, 0) << good.err;
+  EXPECT_EQ(nlohmann::json::parse(slurp(stats))["rays"], 24 * 16);
+  expect_failure(
+      run(trace_args("builtin:pyramid", rays, temp_path("image.hits")) + " --sample-image 24x15"),
+      1, rays);
+  expect_failure(
+      run(trace_args("builtin:pyramid", rays, temp_path("image.hits")) + " --sample-image 24"), 2,
+      "--sample-image");
+}
+
 // A camera at (0,0,5) looking down -z with a 90° vertical field of view: the centre of pixel
 // (x, y) of a 4x2 image lies at NDC ((x + 0.5) / 2 - 1, 1 - (y + 0.5)), so its ray runs
 // along (2 * ndc_x, ndc_y, -1) (aspect 2, tan 45° = 1).
