@@ -88,10 +88,18 @@ class alignas(64) Grid1D::Context final : public ThreadContext {
     double t_next = 0.0;
     double t_origin = 0.0;  // distance to the grid's wall 0
     double t_width = 0.0;   // distance between walls (signed like the direction)
+    uint64_t rays = 0;      // rays of this thread that used the state (for the states table)
     double exit_distance(int64_t slab, int step) const {
       return t_origin + double(step > 0 ? slab + 1 : slab) * t_width;
     }
   };
+
+  explicit Context(const Grid1D& grid) : grid_(grid) {}
+  ~Context() override {
+    for (uint32_t id = 0; id < states.size(); ++id)
+      if (states[id].rays)
+        grid_.state_rays_[id].fetch_add(states[id].rays, std::memory_order_relaxed);
+  }
 
   // Ray-id mailboxing (§6.4) in a small direct-mapped table rather than a stamp per
   // triangle: it stays in L1 whatever the scene's size. A collision only costs a repeated
@@ -112,6 +120,9 @@ class alignas(64) Grid1D::Context final : public ThreadContext {
   uint32_t mailbox_triangle[kMailboxSlots] = {};
   std::vector<StateValues> states;
   uint64_t ray_id = 0;
+
+ private:
+  const Grid1D& grid_;
 };
 
 // One ray's walk: its origin and direction in double and, per axis, the voxel whose
@@ -175,9 +186,16 @@ Grid1D::Grid1D(const AccelParams& params)
       tri_indices_(params.memory_budget),
       packed_(params.memory_budget),
       sample_indices_(params.memory_budget),
-      states_(std::min<uint64_t>(params.memory_budget, uint64_t{64} << 20)) {}
+      states_(std::min<uint64_t>(params.memory_budget, uint64_t{64} << 20)),
+      state_rays_(std::min<uint64_t>(params.memory_budget, uint64_t{64} << 20)) {}
 
 Grid1D::~Grid1D() = default;
+
+uint32_t Grid1D::voxel_depth(uint32_t id) const { return regions_[id].depth; }
+
+uint64_t Grid1D::state_rays(uint32_t state) const {
+  return state_rays_[state].load(std::memory_order_relaxed);
+}
 
 void Grid1D::voxel_box(uint32_t id, double lo[3], double hi[3]) const {
   const Region& region = regions_[id];
@@ -245,7 +263,7 @@ void Grid1D::sample(std::span<const Ray> sample_rays, double rays_in_run) {
 
   // The breadth of the paper's pass is the sample; its order is fixed (ray order, one
   // thread), so every cut it makes is a function of the sample alone.
-  Context context;
+  Context context(*this);
   for (SampleRay& s : sample_) {
     NullRecorder none;
     const Hit hit = trace<false>(s.ray, context, none);
@@ -256,7 +274,7 @@ void Grid1D::sample(std::span<const Ray> sample_rays, double rays_in_run) {
 
 void Grid1D::build_all() {
   const auto start = Clock::now();
-  Context context;
+  Context context(*this);
   std::vector<uint32_t> stack{0};
   while (!stack.empty()) {
     const uint32_t id = stack.back();
@@ -270,7 +288,9 @@ void Grid1D::build_all() {
   build_seconds_ += seconds_since(start);
 }
 
-std::unique_ptr<ThreadContext> Grid1D::make_context() const { return std::make_unique<Context>(); }
+std::unique_ptr<ThreadContext> Grid1D::make_context() const {
+  return std::make_unique<Context>(*this);
+}
 
 Hit Grid1D::intersect(const Ray& ray, ThreadContext& context) const {
   NullRecorder none;
@@ -457,6 +477,7 @@ uint32_t Grid1D::descend(uint32_t id, double t_cur, int entered_axis, RayWalk& w
       state_case = used_by_ray ? StateCase::index_only : StateCase::reinitialised;
       const StateInfo& info = states_[voxel.state];
       if (!used_by_ray) {
+        ++values.rays;
         values.stamp = walk.ray_id;
         values.t_origin = (info.origin - walk.origin[b]) * walk.inv_dir[b];
         values.t_width = info.width * walk.inv_dir[b];
@@ -564,13 +585,9 @@ void fill_cells(const std::vector<std::pair<int64_t, int64_t>>& ranges,
 // candidate. A cut that leaves all triangles in one cell and the others empty is kept: it
 // is how a small cluster in large extents ("teapot in a stadium") gets isolated, and the
 // depth cap and the minimum cell width bound it on degenerate input.
-Grid1D::Cut Grid1D::plan_cut(uint32_t id) const {
-  Cut cut;
+// N, extents, mean triangle sizes (each clipped to the voxel, §6.3) and estimated rays.
+VoxelFigures Grid1D::figures_of(uint32_t id, const double lo[3], const double hi[3]) const {
   const Voxel& voxel = voxels_[id];
-  const Region& region = regions_[id];
-  if (voxel.tri_count < 2 || region.depth >= uint32_t(params_.max_depth)) return cut;
-  double lo[3], hi[3];
-  voxel_box(id, lo, hi);
   VoxelFigures figures;
   figures.triangles = voxel.tri_count;
   for (int a = 0; a < 3; ++a) figures.extent[a] = hi[a] - lo[a];
@@ -579,23 +596,56 @@ Grid1D::Cut Grid1D::plan_cut(uint32_t id) const {
     for (int a = 0; a < 3; ++a)
       figures.mean_size[a] += std::max(0.0, std::min(box[a + 3], hi[a]) - std::max(box[a], lo[a]));
   }
-  for (double& size : figures.mean_size) size /= voxel.tri_count;
+  if (voxel.tri_count > 0)
+    for (double& size : figures.mean_size) size /= voxel.tri_count;
   figures.rays = estimated_rays(id);
-  cut.rays = figures.rays;
+  return figures;
+}
 
+// The most cells each axis may take: max granularity, the minimum cell width, and the
+// absolute granularity cap; 0 for an axis that cannot be cut.
+std::array<int, 3> Grid1D::granularity_limits(uint32_t id, const VoxelFigures& figures,
+                                              const double lo[3], const double hi[3]) const {
+  const Region& region = regions_[id];
   double local_magnitude = 0.0;
   for (int a = 0; a < 3; ++a)
     local_magnitude = std::max({local_magnitude, std::fabs(lo[a]), std::fabs(hi[a])});
-  std::vector<AxisPlan> plans;
-  for (int k = 0; k < 3; ++k) {
-    const int a = (int(region.depth) + k) % 3;
-    const double min_width =
-        std::max(kMinCellUlps * FLT_EPSILON * local_magnitude, kMinCellPaddings * root_.padding);
+  const double min_width =
+      std::max(kMinCellUlps * FLT_EPSILON * local_magnitude, kMinCellPaddings * root_.padding);
+  std::array<int, 3> limits{};
+  for (int a = 0; a < 3; ++a) {
     const double thin_limit = min_width > 0.0 ? figures.extent[a] / min_width : 0.0;
     const double max_g = std::min({double(params_.max_granularity), std::floor(thin_limit),
                                    double(kMaxAbsoluteGranularity / region.grid[a])});
-    if (max_g < 2.0) continue;
-    const AxisPlan plan = plan_axis(params_, figures, a, int(max_g));
+    limits[a] = max_g < 2.0 ? 0 : int(max_g);
+  }
+  return limits;
+}
+
+// The §6 decision for one voxel, a pure function of the voxel, the sample and the
+// parameters (never of which ray arrived first), so lazy, eager and any number of threads
+// build the same structure. Candidate axes: the paper's alternation by depth, or all axes
+// by cost (the paper's future work, comparing with the along-axis term added back). An
+// axis that cannot be cut (too thin) or whose cut separates nothing (every cell would keep
+// all the voxel's triangles: coincident or spanning triangles) gives way to the next
+// candidate. A cut that leaves all triangles in one cell and the others empty is kept: it
+// is how a small cluster in large extents ("teapot in a stadium") gets isolated, and the
+// depth cap and the minimum cell width bound it on degenerate input.
+Grid1D::Cut Grid1D::plan_cut(uint32_t id) const {
+  Cut cut;
+  const Voxel& voxel = voxels_[id];
+  const Region& region = regions_[id];
+  if (voxel.tri_count < 2 || region.depth >= uint32_t(params_.max_depth)) return cut;
+  double lo[3], hi[3];
+  voxel_box(id, lo, hi);
+  const VoxelFigures figures = figures_of(id, lo, hi);
+  cut.rays = figures.rays;
+  const std::array<int, 3> limits = granularity_limits(id, figures, lo, hi);
+  std::vector<AxisPlan> plans;
+  for (int k = 0; k < 3; ++k) {
+    const int a = (int(region.depth) + k) % 3;
+    if (limits[a] == 0) continue;
+    const AxisPlan plan = plan_axis(params_, figures, a, limits[a]);
     if (params_.axis == AxisRule::alternate && plans.empty() && plan.granularity < 2) return cut;
     if (plan.granularity >= 2) plans.push_back(plan);
   }
@@ -609,6 +659,27 @@ Grid1D::Cut Grid1D::plan_cut(uint32_t id) const {
   for (const AxisPlan& plan : plans)
     if (sort_into_cells(id, plan.axis, plan.granularity, lo, hi, cut)) return cut;
   return Cut{};
+}
+
+VoxelCostReport Grid1D::cost_report(uint32_t id) const {
+  VoxelCostReport report;
+  report.voxel = id;
+  report.depth = regions_[id].depth;
+  const Voxel& voxel = voxels_[id];
+  if (voxel.status.load(std::memory_order_acquire) == kSplit)
+    report.axis = voxel.axis, report.granularity = voxel.granularity;
+  double lo[3], hi[3];
+  voxel_box(id, lo, hi);
+  report.figures = figures_of(id, lo, hi);
+  report.subdivision_cost = params_.subcost * report.figures.triangles;
+  const std::array<int, 3> limits = granularity_limits(id, report.figures, lo, hi);
+  for (int a = 0; a < 3; ++a) {
+    if (limits[a] == 0) continue;
+    report.plans.push_back(plan_axis(params_, report.figures, a, limits[a]));
+    for (int g = 2; g <= limits[a]; ++g)
+      report.alternatives.push_back({a, g, cut_cost(params_, report.figures, a, g)});
+  }
+  return report;
 }
 
 bool Grid1D::sort_into_cells(uint32_t id, int axis, int g, const double lo[3], const double hi[3],
@@ -668,6 +739,7 @@ uint32_t Grid1D::state_for(uint32_t axis, uint64_t granularity) const {
   const auto found = state_ids_.find(key);
   if (found != state_ids_.end()) return found->second;
   const uint32_t id = uint32_t(states_.append(1));
+  state_rays_.construct(id, 1);
   const double extent = root_.hi[axis] - root_.lo[axis];
   states_[id] = {root_.lo[axis], extent, double(granularity) / extent, extent / double(granularity),
                  granularity,    axis};

@@ -5,16 +5,37 @@
 // (§4, lazy); voxels cut along the same axis with the same absolute granularity share one
 // traversal state (§4, §5.2.2); ray-id mailboxing stops repeated tests (§6.4).
 #pragma once
+#include <array>
 #include <atomic>
 #include <mutex>
 #include <unordered_map>
 #include <vector>
 
 #include "core/accelerator.h"
+#include "core/cost_model.h"
 #include "core/geometry.h"
 #include "core/stable_array.h"
 
 namespace gs {
+
+// The §6 cost model as it stands for one voxel: the figures it was fed, the best cut per
+// axis and the cost of every granularity (for the viewer's inspector). Recomputed from the
+// voxel, the sample and the parameters, the same pure function the build evaluates.
+struct VoxelCostReport {
+  uint32_t voxel = 0;
+  uint32_t depth = 0;
+  int axis = -1;                  // the cut the build made, or -1 for a leaf
+  int granularity = 1;            // 1 for a leaf
+  VoxelFigures figures;           // N, extents, mean sizes, estimated rays
+  double subdivision_cost = 0.0;  // Subcost * N (§6.5)
+  std::vector<AxisPlan> plans;    // per axis that can be cut: best g, costs, pays or not
+  struct Alternative {
+    int axis;
+    int granularity;
+    CutCost cost;  // per ray
+  };
+  std::vector<Alternative> alternatives;
+};
 
 class Grid1D final : public Accelerator {
  public:
@@ -86,6 +107,12 @@ class Grid1D final : public Accelerator {
   size_t state_count() const { return states_.size(); }
   // The voxel's box, from its slab on each axis's global grid (exact walls).
   void voxel_box(uint32_t id, double lo[3], double hi[3]) const;
+  uint32_t voxel_depth(uint32_t id) const;
+  // Call while no thread traces (the figures read the voxel's triangle list and sample).
+  VoxelCostReport cost_report(uint32_t id) const;
+  // Rays that used each traversal state (counted once per ray, merged when a tracing
+  // thread's context ends).
+  uint64_t state_rays(uint32_t state) const;
 
  private:
   class Context;
@@ -110,6 +137,9 @@ class Grid1D final : public Accelerator {
                  uint64_t ray_id, float& tmax, Hit& best, Context& context,
                  Recorder& recorder) const;
   Cut plan_cut(uint32_t voxel) const;
+  VoxelFigures figures_of(uint32_t voxel, const double lo[3], const double hi[3]) const;
+  std::array<int, 3> granularity_limits(uint32_t voxel, const VoxelFigures& figures,
+                                        const double lo[3], const double hi[3]) const;
   bool sort_into_cells(uint32_t voxel, int axis, int g, const double lo[3], const double hi[3],
                        Cut& cut) const;
   bool commit_cut(uint32_t voxel, const Cut& cut) const;
@@ -137,6 +167,7 @@ class Grid1D final : public Accelerator {
   mutable StableArray<PackedTriangle> packed_;
   mutable StableArray<uint32_t> sample_indices_;
   mutable StableArray<StateInfo> states_;
+  mutable StableArray<std::atomic<uint64_t>> state_rays_;  // parallel to states_
   mutable std::unordered_map<uint64_t, uint32_t> state_ids_;
   mutable std::atomic<uint64_t> subdivided_{0};
   mutable std::atomic<uint64_t> over_budget_{0};

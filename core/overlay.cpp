@@ -182,7 +182,7 @@ std::vector<StateRow> state_table(const Grid1D& grid) {
   std::vector<StateRow> rows;
   for (const auto& [state, voxels] : counts) {
     const Grid1D::StateInfo& info = grid.state_info(state);
-    rows.push_back({state, int(info.axis), info.granularity, voxels});
+    rows.push_back({state, int(info.axis), info.granularity, voxels, grid.state_rays(state)});
   }
   std::sort(rows.begin(), rows.end(), [](const StateRow& a, const StateRow& b) {
     return a.axis != b.axis ? a.axis < b.axis : a.absolute_granularity < b.absolute_granularity;

@@ -40,12 +40,14 @@ LineSet cell_lines(const Grid1D& grid, CellColoring coloring);
 // own colour (the 12 box edges of every subdivided voxel); legend: one entry per state.
 LineSet state_lines(const Grid1D& grid);
 
-// One row of the states table: a state, how many subdivided voxels share it.
+// One row of the states table: a state, how many subdivided voxels share it, and how many
+// rays used it (Grid1D::state_rays: counted when tracing threads finish).
 struct StateRow {
   uint32_t state;
   int axis;
   uint64_t absolute_granularity;
   uint64_t voxels;
+  uint64_t rays;
 };
 std::vector<StateRow> state_table(const Grid1D& grid);
 

@@ -248,3 +248,59 @@ TEST(Grid1DWalk, RecordsTheCellsTheRayCrosses) {
 
 }  // namespace
 }  // namespace gs
+
+namespace gs {
+namespace {
+
+// Every ray that enters the scene box goes down through the (cut) root once, so the root's
+// traversal state is first used by exactly those rays: an independent count by clipping.
+TEST(Grid1DStates, RaysPerStateCountFirstUses) {
+  const Case& c = cases()[0];
+  Grid1D grid(AccelParams{});
+  grid.build(c.scene);
+  grid.build_all();
+  ASSERT_EQ(grid.voxel(0).status.load(), Grid1D::kSplit);
+  test::trace_all(grid, c.rays, 2);  // contexts end with the threads
+  const ClipBox box(c.scene.bounds());
+  uint64_t entering = 0;
+  for (const Ray& ray : c.rays) {
+    double t0, t1;
+    entering += box.clip(ray, t0, t1);
+  }
+  EXPECT_EQ(grid.state_rays(grid.voxel(0).state), entering);
+}
+
+// The inspector's cost report is the build's own decision, recomputed.
+TEST(Grid1DStates, CostReportReproducesTheCut) {
+  const Case& c = cases()[0];
+  Grid1D grid(AccelParams{});
+  grid.build(c.scene);
+  grid.build_all();
+  size_t checked = 0;
+  for (uint32_t id = 0; id < grid.voxel_count() && checked < 200; ++id) {
+    const Grid1D::Voxel& voxel = grid.voxel(id);
+    if (voxel.status.load() != Grid1D::kSplit) continue;
+    const VoxelCostReport report = grid.cost_report(id);
+    EXPECT_EQ(report.axis, voxel.axis);
+    EXPECT_EQ(report.granularity, voxel.granularity);
+    EXPECT_EQ(report.figures.triangles, voxel.tri_count);
+    EXPECT_EQ(report.depth, grid.voxel_depth(id));
+    double lo[3], hi[3];
+    grid.voxel_box(id, lo, hi);
+    for (int a = 0; a < 3; ++a) EXPECT_EQ(report.figures.extent[a], hi[a] - lo[a]);
+    // The alternation rule cut along depth % 3 at the cheapest g: the minimum over the
+    // listed alternatives on that axis.
+    double best = INFINITY;
+    int best_g = 0;
+    for (const auto& alt : report.alternatives)
+      if (alt.axis == voxel.axis && alt.cost.total < best)
+        best = alt.cost.total, best_g = alt.granularity;
+    EXPECT_EQ(int(voxel.axis), int(report.depth % 3));
+    EXPECT_EQ(best_g, voxel.granularity);
+    ++checked;
+  }
+  EXPECT_GT(checked, 10u);
+}
+
+}  // namespace
+}  // namespace gs
