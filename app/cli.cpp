@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "app/shot.h"
+#include "app/view.h"
 #include "core/camera.h"
 #include "core/error.h"
 #include "core/ray_io.h"
@@ -31,6 +32,9 @@ constexpr const char* kUsage = R"(usage: gridscope COMMAND ...
                    [--accel NAME] [--threads N] [--stats FILE.json] [STRUCTURE FLAGS]
   gridscope shot   SCENE --out FILE.png [--size WxH] [--camera STRING] [--spp N]
                    [--overlay LIST] [--pixel X,Y] [--ui] [--accel NAME] [STRUCTURE FLAGS]
+  gridscope view   [SCENE] [--camera STRING] [--size WxH] [--frames N] [--click X,Y]
+                   [--screenshot FILE.png] [--walk-out FILE.json] [--accel NAME]
+                   [STRUCTURE FLAGS]
   gridscope export SCENE --out FILE.obj
   gridscope rays   SCENE --out FILE.rays [--size WxH] [--camera STRING]
   gridscope help
@@ -45,7 +49,10 @@ shot draws the viewer's frame headless (OSMesa); --overlay takes any of
   cells, states, walk, heat:steps, heat:tests, heat:built (comma-separated);
   --pixel X,Y picks the walk's pixel (default: the image centre).
 Exit status: 0 success, 1 bad input or failed run, 2 usage error.
-Not in this build yet: view, bench, calibrate.
+view opens the explorer (default: builtin:lumpy, close-up); --frames N exits after N UI
+  frames and the first full-resolution pass, --click X,Y (fractions of the viewport) picks
+  a pixel's walk, --walk-out writes it, --screenshot saves the window.
+Not in this build yet: bench, calibrate.
 )";
 
 // A flag and what it does to the job being assembled; `apply` gets "" for a switch.
@@ -280,6 +287,31 @@ int shot_command(std::span<const std::string> words) {
   return 0;
 }
 
+int view_command(std::span<const std::string> words) {
+  ViewJob job;
+  RenderSettings size;
+  size.width = job.width, size.height = job.height;
+  Flags flags = structure_flags(job.params);
+  flags.insert(
+      flags.end(),
+      {string_flag("--accel", job.accel),
+       string_flag("--screenshot", job.screenshot),
+       string_flag("--walk-out", job.walk_out),
+       {"--size", true, [&size](const std::string& v) { parse_size(v, size); }},
+       {"--camera", true, [&job](const std::string& v) { job.camera = parse_camera(v); }},
+       {"--frames", true,
+        [&job](const std::string& v) { job.frames = parse_int("--frames", v, 1, 1000000); }},
+       {"--click", true, [&job](const std::string& v) { job.click = parse_click(v); }}});
+  const std::vector<std::string> positionals = parse_words("view", words, flags);
+  if (positionals.size() > 1)
+    throw UsageError("view takes at most one SCENE argument, got " +
+                     std::to_string(positionals.size()));
+  if (!positionals.empty()) job.scene = positionals[0];
+  job.width = size.width, job.height = size.height;
+  run_view(job);
+  return 0;
+}
+
 int export_command(std::span<const std::string> words) {
   std::string out;
   const Flags flags = {string_flag("--out", out)};
@@ -332,7 +364,8 @@ int run_cli(std::span<const std::string> args) {
   if (command == "shot") return shot_command(rest);
   if (command == "export") return export_command(rest);
   if (command == "rays") return rays_command(rest);
-  if (command == "view" || command == "bench" || command == "calibrate")
+  if (command == "view") return view_command(rest);
+  if (command == "bench" || command == "calibrate")
     throw UsageError("'" + command + "' is not available in this build yet");
   throw UsageError("unknown command '" + command + "'");
 }

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <glm/geometric.hpp>
+#include <stdexcept>
 
 #include "core/error.h"
 #include "core/ray_io.h"
@@ -94,16 +95,26 @@ void record_costs(const TraceCounters& before, const TraceCounters& after, Pixel
   record.built = count_since(after.voxels_built, before.voxels_built);
 }
 
+// Shades one tile row of the image. With stride 1 the tile row is image row `ty` and each
+// pixel takes samples [first_sample, settings.spp), added to its running sum in `sums` when
+// given (the image shows the sum over settings.spp samples). With stride > 1 (the coarse
+// pass) one ray goes through the pixel image_sample_pixels picks in each stride x stride
+// tile, whose pixels all get its colour and record. rgba and records are the whole image's.
 void shade_row(const Scene& scene, const Accelerator& accel, ThreadContext& context,
                const Camera& camera, const RenderSettings& settings, const Lighting& lighting,
-               int py, uint8_t* row, PixelRecord* records, uint64_t& rays) {
+               int stride, int ty, int first_sample, glm::vec3* sums, uint8_t* rgba,
+               PixelRecord* records, uint64_t& rays) {
   const int w = settings.width, h = settings.height, spp = settings.spp;
   const glm::vec3 forward = camera.forward();
-  for (int px = 0; px < w; ++px) {
+  const int py = stride == 1 ? ty : std::min(ty * stride + stride / 2, h - 1);
+  for (int tx = 0; tx * stride < w; ++tx) {
+    const int px = stride == 1 ? tx : std::min(tx * stride + stride / 2, w - 1);
+    const size_t index = size_t(py) * size_t(w) + size_t(px);
+    PixelRecord& record = records[index];
     const TraceCounters before = context.counters;
-    glm::vec3 sum(0.0f);
+    glm::vec3 sum = sums && first_sample > 0 ? sums[index] : glm::vec3(0.0f);
     const uint32_t seed = hash(uint32_t(py) * uint32_t(w) + uint32_t(px));
-    for (int s = 0; s < spp; ++s) {
+    for (int s = first_sample; s < spp; ++s) {
       const float jx = spp == 1 ? 0.5f : unit_float(hash(seed ^ hash(2 * uint32_t(s))));
       const float jy = spp == 1 ? 0.5f : unit_float(hash(seed ^ hash(2 * uint32_t(s) + 1)));
       const Ray ray = camera.primary_ray(px, py, w, h, jx, jy);
@@ -111,14 +122,62 @@ void shade_row(const Scene& scene, const Accelerator& accel, ThreadContext& cont
       sum += shade(scene, accel, context, ray, lighting, rays, hit_t);
       // t is in units of the unnormalised direction: its projection on the unit forward
       // vector turns it into distance along the view axis (what a depth buffer compares).
-      if (s == 0)
-        records[px].depth = std::isinf(hit_t) ? hit_t : hit_t * glm::dot(ray.dir, forward);
+      if (s == 0) record.depth = std::isinf(hit_t) ? hit_t : hit_t * glm::dot(ray.dir, forward);
     }
-    record_costs(before, context.counters, records[px]);
+    if (sums) sums[index] = sum;
+    record_costs(before, context.counters, record);
     const glm::vec3 colour = glm::clamp(sum / float(spp), 0.0f, 1.0f) * 255.0f + 0.5f;
-    for (int k = 0; k < 3; ++k) row[4 * px + k] = uint8_t(colour[k]);
-    row[4 * px + 3] = 255;
+    uint8_t* pixel = &rgba[4 * index];
+    for (int k = 0; k < 3; ++k) pixel[k] = uint8_t(colour[k]);
+    pixel[3] = 255;
+    if (stride == 1) continue;
+    // Fill the tile with the ray's pixel.
+    const int x0 = tx * stride, y0 = ty * stride;
+    const int x1 = std::min(x0 + stride, w), y1 = std::min(y0 + stride, h);
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) {
+        const size_t other = size_t(y) * size_t(w) + size_t(x);
+        if (other == index) continue;
+        records[other] = record;
+        std::copy(pixel, pixel + 4, &rgba[4 * other]);
+      }
   }
+}
+
+// Renders tile rows of `stride`-pixel tiles into a fresh outcome, rows spread over the
+// threads; run_row (when given) runs or skips each row.
+RenderOutcome render_rows(const Scene& scene, const Accelerator& accel, const Camera& camera,
+                          const RenderSettings& settings, int stride, int first_sample,
+                          glm::vec3* sums, const RowRunner& run_row) {
+  RenderOutcome outcome;
+  Image& image = outcome.image;
+  image.width = settings.width;
+  image.height = settings.height;
+  image.rgba.resize(size_t(image.width) * size_t(image.height) * 4);
+  outcome.pixels.resize(size_t(image.width) * size_t(image.height));
+  const Lighting lighting = make_lighting(scene, camera);
+  const size_t tile_rows = size_t((settings.height + stride - 1) / stride);
+  std::atomic<uint64_t> rays{0};
+  outcome.seconds = seconds_of([&] {
+    outcome.counters = parallel_chunks(
+        accel, tile_rows, 1, settings.threads,
+        [&](ThreadContext& context, size_t begin, size_t end) {
+          uint64_t row_rays = 0;
+          for (size_t ty = begin; ty < end; ++ty) {
+            auto row = [&] {
+              shade_row(scene, accel, context, camera, settings, lighting, stride, int(ty),
+                        first_sample, sums, image.rgba.data(), outcome.pixels.data(), row_rays);
+            };
+            if (run_row)
+              run_row(row);
+            else
+              row();
+          }
+          rays.fetch_add(row_rays, std::memory_order_relaxed);
+        });
+  });
+  outcome.rays = rays.load();
+  return outcome;
 }
 
 nlohmann::json render_parameters(const RenderJob& job, const Camera& camera) {
@@ -165,28 +224,19 @@ void sample_image(Accelerator& accel, const Camera& camera, const RenderSettings
 
 RenderOutcome render_image(const Scene& scene, const Accelerator& accel, const Camera& camera,
                            const RenderSettings& settings) {
-  RenderOutcome outcome;
-  Image& image = outcome.image;
-  image.width = settings.width;
-  image.height = settings.height;
-  image.rgba.resize(size_t(image.width) * size_t(image.height) * 4);
-  outcome.pixels.resize(size_t(image.width) * size_t(image.height));
-  const Lighting lighting = make_lighting(scene, camera);
-  std::atomic<uint64_t> rays{0};
-  outcome.seconds = seconds_of([&] {
-    outcome.counters =
-        parallel_chunks(accel, size_t(image.height), 1, settings.threads,
-                        [&](ThreadContext& context, size_t begin, size_t end) {
-                          uint64_t row_rays = 0;
-                          for (size_t py = begin; py < end; ++py)
-                            shade_row(scene, accel, context, camera, settings, lighting, int(py),
-                                      &image.rgba[py * size_t(image.width) * 4],
-                                      &outcome.pixels[py * size_t(image.width)], row_rays);
-                          rays.fetch_add(row_rays, std::memory_order_relaxed);
-                        });
-  });
-  outcome.rays = rays.load();
-  return outcome;
+  return render_rows(scene, accel, camera, settings, 1, 0, nullptr, {});
+}
+
+RenderOutcome render_pass(const Scene& scene, const Accelerator& accel, const Camera& camera,
+                          const RenderSettings& settings, int stride, int first_sample,
+                          std::vector<glm::vec3>* sums, const RowRunner& run_row) {
+  if (stride < 1 || first_sample < 0 || first_sample >= settings.spp ||
+      (stride > 1 && (settings.spp != 1 || sums)) ||
+      (sums && sums->size() != size_t(settings.width) * size_t(settings.height)) ||
+      (!sums && first_sample > 0))
+    throw std::invalid_argument("render_pass: inconsistent stride, samples or sums");
+  return render_rows(scene, accel, camera, settings, stride, first_sample,
+                     sums ? sums->data() : nullptr, run_row);
 }
 
 void write_png(const std::string& path, int width, int height, const std::vector<uint8_t>& rgba) {

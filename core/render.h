@@ -4,6 +4,8 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <functional>
+#include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -70,6 +72,29 @@ void sample_image(Accelerator& accel, const Camera& camera, const RenderSettings
 // Renders with an accelerator already built over `scene`, rows spread over the threads.
 RenderOutcome render_image(const Scene& scene, const Accelerator& accel, const Camera& camera,
                            const RenderSettings& settings);
+
+// How render_pass runs each row: run_row(row) calls row() to render it, or returns without
+// calling it to skip it (a cancelled pass). Called on the rendering threads, one row at a
+// time per thread; it may block (to pause the pass between rows).
+using RowRunner = std::function<void(const std::function<void()>& row)>;
+
+// One pass of the viewer's progressive renderer (core/progressive.h), by render_image's own
+// shading, rows spread over settings.threads threads.
+// - stride 1: samples [first_sample, settings.spp) of every pixel, the samples render_image
+//   takes for settings.spp (pixel centres for spp 1, its fixed jitter otherwise). `sums`
+//   (width * height display-space colours; may be null when first_sample is 0) keeps each
+//   pixel's running sum, started afresh when first_sample is 0, and the image is that sum
+//   divided by settings.spp: after passes covering samples 0 .. spp - 1 it equals render_image's
+//   image for settings.spp exactly. The pixels' records count this pass's samples (depth only when
+//   it takes sample 0, else 0).
+// - stride > 1 (spp 1, no sums; the coarse pass): one ray through the centre of the pixel
+//   image_sample_pixels picks in each stride x stride tile (for 8), every pixel of the tile
+//   taking its colour and record.
+// run_row, when given, runs or skips each row (a row of tiles); a skipped row leaves its
+// pixels zero. Throws std::invalid_argument for inconsistent arguments.
+RenderOutcome render_pass(const Scene& scene, const Accelerator& accel, const Camera& camera,
+                          const RenderSettings& settings, int stride, int first_sample,
+                          std::vector<glm::vec3>* sums, const RowRunner& run_row = {});
 
 // Throws InputError naming the path when the PNG cannot be written.
 void write_png(const std::string& path, int width, int height, const std::vector<uint8_t>& rgba);

@@ -1,0 +1,87 @@
+#include "app/gl/window.h"
+
+// glad first: it claims the GL header guard, and GLFW must not include a GL header itself.
+#include <glad/gl.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <imgui/backends/imgui_impl_glfw.h>
+
+#include "core/error.h"
+
+namespace gs::gl {
+
+namespace {
+
+// GLFW reports failures through a callback; keep the last one for the error line.
+std::string& last_glfw_error() {
+  static std::string text;
+  return text;
+}
+
+void on_glfw_error(int /*code*/, const char* description) {
+  last_glfw_error() = description ? description : "unknown GLFW error";
+}
+
+[[noreturn]] void no_window(const std::string& fallback) {
+  const std::string& reason = last_glfw_error().empty() ? fallback : last_glfw_error();
+  throw InputError("OpenGL: could not open a window (" + reason + ")");
+}
+
+GLADapiproc glfw_proc(const char* name) {
+  return reinterpret_cast<GLADapiproc>(glfwGetProcAddress(name));
+}
+
+}  // namespace
+
+Window::Window(int width, int height, const std::string& title) {
+  last_glfw_error().clear();
+  glfwSetErrorCallback(on_glfw_error);
+  if (!glfwInit()) no_window("GLFW could not start");
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  glfwWindowHint(GLFW_DEPTH_BITS, 24);
+  window_ = glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);
+  if (!window_) {
+    glfwTerminate();
+    no_window("no OpenGL 3.3 core context");
+  }
+  glfwMakeContextCurrent(window_);
+  glfwSwapInterval(1);
+  const int version = gladLoadGL(glfw_proc);
+  if (version == 0 || GLAD_VERSION_MAJOR(version) * 10 + GLAD_VERSION_MINOR(version) < 33) {
+    glfwDestroyWindow(window_);
+    glfwTerminate();
+    no_window("OpenGL 3.3 functions missing");
+  }
+  ImGui::CreateContext();
+  ImGui::GetIO().IniFilename = nullptr;  // the layout is placed in code each frame
+  ImGui::GetIO().LogFilename = nullptr;
+  imgui_backend_ = ImGui_ImplGlfw_InitForOpenGL(window_, true);
+}
+
+Window::~Window() {
+  if (imgui_backend_) ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+  glfwDestroyWindow(window_);
+  glfwTerminate();
+}
+
+bool Window::should_close() const { return glfwWindowShouldClose(window_); }
+
+void Window::begin_frame() {
+  glfwPollEvents();
+  ImGui_ImplGlfw_NewFrame();
+}
+
+void Window::swap() { glfwSwapBuffers(window_); }
+
+glm::ivec2 Window::framebuffer_size() const {
+  glm::ivec2 size(0);
+  glfwGetFramebufferSize(window_, &size.x, &size.y);
+  return size;
+}
+
+}  // namespace gs::gl

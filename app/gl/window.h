@@ -1,0 +1,36 @@
+// The viewer's window: GLFW with an OpenGL 3.3 core context, glad loaded through
+// glfwGetProcAddress (DESIGN.md §4), and Dear ImGui's GLFW platform backend for input. The
+// UI is drawn by our own ImGuiRenderer, never by Debian's OpenGL3 backend, so that the
+// window and headless shots draw panels the same way.
+#pragma once
+#include <glm/vec2.hpp>
+#include <string>
+
+struct GLFWwindow;
+
+namespace gs::gl {
+
+class Window {
+ public:
+  // Opens the window, makes its context current, loads glad, creates an ImGui context and
+  // binds the GLFW backend to it. Throws InputError("OpenGL: could not open a window
+  // (REASON)") when GLFW cannot start or give a 3.3 core context (exit status 1).
+  Window(int width, int height, const std::string& title);
+  ~Window();
+  Window(const Window&) = delete;
+  Window& operator=(const Window&) = delete;
+
+  GLFWwindow* handle() const { return window_; }
+  bool should_close() const;
+  // Polls events and starts the backend's ImGui frame (call before ImGui::NewFrame).
+  void begin_frame();
+  void swap();
+  // Framebuffer size in pixels (what glViewport and glReadPixels count).
+  glm::ivec2 framebuffer_size() const;
+
+ private:
+  GLFWwindow* window_ = nullptr;
+  bool imgui_backend_ = false;
+};
+
+}  // namespace gs::gl
