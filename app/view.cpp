@@ -98,18 +98,6 @@ class Target {
   int width_ = 0, height_ = 0;
 };
 
-// The cost model's figures for the parent voxel of the inspected cell (core/cost_model.h).
-// Mean triangle sizes are private to Grid1D, so they are taken as 0 (k = 1): the rep cost
-// shows as 0 and the int cost as a lower bound. The panel says so.
-struct ParentCost {
-  bool valid = false;
-  uint32_t voxel = 0;
-  int axis = 0, g = 0;
-  VoxelFigures figures;
-  double no_split = 0;
-  std::vector<std::pair<int, CutCost>> rows;  // g - 1, g, g + 1 where valid
-};
-
 // The voxel (by depth) the walk had gone down through when it reached cell `upto`: a
 // descent rewrites its level and every deeper one, a step within an array keeps them.
 std::optional<uint32_t> parent_voxel(const Walk& walk, size_t upto) {
@@ -125,23 +113,20 @@ std::optional<uint32_t> parent_voxel(const Walk& walk, size_t upto) {
   return path[depth - 1];
 }
 
-ParentCost parent_cost(const Grid1D& grid, const AccelParams& params, uint32_t voxel) {
-  ParentCost cost;
-  if (voxel >= grid.voxel_count()) return cost;
-  const Grid1D::Voxel& v = grid.voxel(voxel);
-  double lo[3], hi[3];
-  grid.voxel_box(voxel, lo, hi);
-  cost.valid = true;
-  cost.voxel = voxel;
-  cost.axis = v.axis;
-  cost.g = v.granularity;
-  cost.figures.triangles = v.tri_count;
-  for (int a = 0; a < 3; ++a) cost.figures.extent[a] = hi[a] - lo[a];
-  cost.no_split = no_split_cost(params, cost.figures, cost.axis);
-  for (int g = cost.g - 1; g <= cost.g + 1; ++g)
-    if (g >= 2 && g <= std::max(params.max_granularity, 2))
-      cost.rows.emplace_back(g, cut_cost(params, cost.figures, cost.axis, g));
-  return cost;
+// What the walk did inside `voxel`: the cells it visited there, tests and rejections.
+struct RayInVoxel {
+  int cells = 0;
+  uint64_t tests = 0, rejections = 0;
+};
+RayInVoxel ray_in_voxel(const Walk& walk, uint32_t voxel) {
+  RayInVoxel here;
+  for (size_t i = 0; i < walk.cells.size(); ++i) {
+    if (parent_voxel(walk, i) != std::optional<uint32_t>(voxel)) continue;
+    ++here.cells;
+    here.tests += walk.cells[i].tests;
+    here.rejections += walk.cells[i].rejections;
+  }
+  return here;
 }
 
 std::string descents_text(const WalkCell& cell) {
@@ -256,7 +241,7 @@ class Viewer {
   void restart_structure() {
     walk_.reset();
     walk_lines_ = {};
-    cost_ = {};
+    cost_.reset();
     overlays_dirty_ = true;
     restart();
   }
@@ -435,7 +420,7 @@ class Viewer {
   void read_structure(const Accelerator& accel) {
     structure_lines_.clear();
     states_.clear();
-    cost_ = {};
+    cost_.reset();
     const Grid1D* grid = dynamic_cast<const Grid1D*>(&accel);
     nodes_built_ = grid ? grid->voxel_count() : 0;
     if (!grid) return;
@@ -446,7 +431,7 @@ class Viewer {
     states_ = state_table(*grid);
     if (walk_ && !walk_->cells.empty())
       if (const std::optional<uint32_t> parent = parent_voxel(*walk_, size_t(walk_cell_)))
-        cost_ = parent_cost(*grid, setup_.params, *parent);
+        cost_ = grid->cost_report(*parent), ray_here_ = ray_in_voxel(*walk_, *parent);
   }
 
   const std::vector<uint8_t>& heat_rgba() {
@@ -771,25 +756,37 @@ class Viewer {
     ImGui::Text("%u", c.voxel);
   }
 
+  // The §6 cost model for the inspected cell's parent voxel, as the build evaluated it
+  // (Grid1D::cost_report), beside what this ray did there.
   void cost_breakdown() {
-    if (!cost_.valid) {
+    if (!cost_) {
       ImGui::TextWrapped("Cell %d: no parent voxel (the root is a leaf) or no 1D grid.",
                          walk_cell_);
       return;
     }
-    const VoxelFigures& f = cost_.figures;
-    ImGui::Text("parent voxel %u: cut on %c into g = %d", cost_.voxel, "xyz"[cost_.axis % 3],
-                cost_.g);
-    ImGui::Text("N = %.0f triangles, extent %.3g x %.3g x %.3g", f.triangles, f.extent[0],
-                f.extent[1], f.extent[2]);
-    ImGui::Text("no split: %.3g per ray", cost_.no_split);
-    ImGui::TextUnformatted("g     int    trav   rep    ver    total");
-    for (const auto& [g, c] : cost_.rows)
-      ImGui::Text("%-3d%s %-6.3g %-6.3g %-6.3g %-6.3g %-6.3g", g, g == cost_.g ? "*" : " ",
-                  c.int_cost, c.trav_cost, c.rep_cost, c.ver_cost, c.total);
-    ImGui::TextWrapped(
-        "Estimate: mean triangle sizes are not visible outside the grid, taken as 0 (k = 1): "
-        "rep = 0 and int is a lower bound. Per ray entering the voxel (cost_model.h).");
+    const VoxelCostReport& r = *cost_;
+    const VoxelFigures& f = r.figures;
+    ImGui::Text("parent voxel %u, depth %u: cut on %c into g = %d", r.voxel, r.depth,
+                "xyz"[std::max(r.axis, 0) % 3], r.granularity);
+    ImGui::Text("N = %.0f, extent %.3g x %.3g x %.3g, mean size %.3g %.3g %.3g", f.triangles,
+                f.extent[0], f.extent[1], f.extent[2], f.mean_size[0], f.mean_size[1],
+                f.mean_size[2]);
+    ImGui::Text("estimated rays %.4g, subdivision cost Subcost*N = %.4g", f.rays,
+                r.subdivision_cost);
+    for (const AxisPlan& plan : r.plans)
+      ImGui::Text("axis %c: best g %d, %.4g per ray vs %.4g uncut: %s", "xyz"[plan.axis],
+                  plan.granularity > 1 ? plan.granularity : plan.cost.spanned_cells,
+                  plan.cost.total, plan.no_split, plan.granularity > 1 ? "cut pays" : "keep");
+    ImGui::TextUnformatted("g     int    trav   rep    ver    total  (per ray, chosen axis)");
+    for (const VoxelCostReport::Alternative& alt : r.alternatives) {
+      if (alt.axis != r.axis) continue;
+      const CutCost& c = alt.cost;
+      ImGui::Text("%-3d%s %-6.3g %-6.3g %-6.3g %-6.3g %-6.3g", alt.granularity,
+                  alt.granularity == r.granularity ? "*" : " ", c.int_cost, c.trav_cost, c.rep_cost,
+                  c.ver_cost, c.total);
+    }
+    ImGui::Text("this ray here: %d cells, %llu tests, %llu mailbox rejections", ray_here_.cells,
+                (unsigned long long)ray_here_.tests, (unsigned long long)ray_here_.rejections);
   }
 
   const ViewJob& job_;
@@ -834,7 +831,8 @@ class Viewer {
   Camera walk_camera_;
   int walk_cell_ = 0;
   LineSet walk_lines_;
-  ParentCost cost_;
+  std::optional<VoxelCostReport> cost_;  // of the inspected cell's parent voxel
+  RayInVoxel ray_here_;
 
   int dragging_ = 0;
   bool drag_active_ = false, drag_moved_ = false, skip_release_ = false, fly_ = false;
