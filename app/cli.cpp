@@ -277,7 +277,7 @@ int shot_command(std::span<const std::string> words) {
        {"--camera", true, [&job](const std::string& v) { job.camera = parse_camera(v); }},
        {"--spp", true,
         [&job](const std::string& v) { job.settings.spp = parse_int("--spp", v, 1, kMaxSpp); }},
-       {"--overlay", true, [&job](const std::string& v) { parse_overlays(v, job); }},
+       {"--overlay", true, [&job](const std::string& v) { job.overlays = parse_overlays(v); }},
        {"--pixel", true, [&job](const std::string& v) { job.pixel = parse_pixel(v); }},
        {"--ui", false, [&job](const std::string&) { job.ui = true; }}});
   job.scene = scene_argument("shot", parse_words("shot", words, flags));
@@ -301,7 +301,8 @@ int view_command(std::span<const std::string> words) {
        {"--camera", true, [&job](const std::string& v) { job.camera = parse_camera(v); }},
        {"--frames", true,
         [&job](const std::string& v) { job.frames = parse_int("--frames", v, 1, 1000000); }},
-       {"--click", true, [&job](const std::string& v) { job.click = parse_click(v); }}});
+       {"--click", true, [&job](const std::string& v) { job.click = parse_click(v); }},
+       {"--overlay", true, [&job](const std::string& v) { job.overlays = parse_overlays(v); }}});
   const std::vector<std::string> positionals = parse_words("view", words, flags);
   if (positionals.size() > 1)
     throw UsageError("view takes at most one SCENE argument, got " +

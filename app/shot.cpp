@@ -20,22 +20,6 @@ namespace gs::app {
 
 namespace {
 
-bool needs_grid(const ShotJob& job) { return job.cells || job.states || job.walk; }
-
-const char* heat_name(HeatKind kind) {
-  switch (kind) {
-    case HeatKind::steps:
-      return "steps";
-    case HeatKind::tests:
-      return "tests";
-    case HeatKind::built:
-      return "built";
-    case HeatKind::none:
-      break;
-  }
-  return "none";
-}
-
 std::array<int, 2> walk_pixel(const ShotJob& job) {
   if (job.pixel) return *job.pixel;
   return {job.settings.width / 2, job.settings.height / 2};
@@ -44,7 +28,7 @@ std::array<int, 2> walk_pixel(const ShotJob& job) {
 // Usage errors before any file is read (DESIGN.md §3: usage first).
 void check_usage(const ShotJob& job, const Accelerator& accel) {
   check_render_settings(job.settings);
-  if (needs_grid(job) && !dynamic_cast<const Grid1D*>(&accel))
+  if (job.overlays.needs_grid() && !dynamic_cast<const Grid1D*>(&accel))
     throw UsageError("shot: --overlay cells, states and walk need --accel grid1d, not '" +
                      job.accel + "'");
   const auto [x, y] = walk_pixel(job);
@@ -61,34 +45,23 @@ struct Overlays {
   float heat_max = 0.0f;
 };
 
-std::vector<float> heat_values(const std::vector<PixelRecord>& pixels, HeatKind kind,
-                               size_t count) {
-  std::vector<float> values(count, 0.0f);
-  for (size_t i = 0; i < std::min(count, pixels.size()); ++i) {
-    const PixelRecord& p = pixels[i];
-    values[i] = float(kind == HeatKind::steps   ? p.steps
-                      : kind == HeatKind::tests ? p.tests
-                                                : p.built);
-  }
-  return values;
-}
-
 Overlays make_overlays(const ShotJob& job, const Accelerator& accel, const Camera& camera,
                        const RenderOutcome& outcome) {
   Overlays overlays;
   const Grid1D* grid = dynamic_cast<const Grid1D*>(&accel);
-  if (job.walk) {  // first: re-tracing the ray may build voxels the cells overlay then shows
+  if (job.overlays
+          .walk) {  // first: re-tracing the ray may build voxels the cells overlay then shows
     const auto [x, y] = walk_pixel(job);
     const auto context = accel.make_context();
     const Ray ray = camera.primary_ray(x, y, job.settings.width, job.settings.height);
     if (const std::optional<Walk> walk = accel.record_walk(ray, *context))
       overlays.lines.push_back(walk_lines(*walk));
   }
-  if (job.cells) overlays.lines.push_back(cell_lines(*grid, CellColoring::depth));
-  if (job.states) overlays.lines.push_back(state_lines(*grid));
-  if (job.heat != HeatKind::none) {
-    const size_t count = size_t(job.settings.width) * size_t(job.settings.height);
-    const std::vector<float> values = heat_values(outcome.pixels, job.heat, count);
+  if (job.overlays.cells) overlays.lines.push_back(cell_lines(*grid, CellColoring::depth));
+  if (job.overlays.states) overlays.lines.push_back(state_lines(*grid));
+  if (job.overlays.heat != HeatKind::none) {
+    const std::vector<float> values =
+        heat_values(outcome.pixels, job.overlays.heat, job.settings.spp);
     overlays.heat_max = values.empty() ? 0.0f : *std::max_element(values.begin(), values.end());
     // A flat image (all zero) still needs a non-empty range.
     overlays.heat = heat_image(values, 0.0f, std::max(overlays.heat_max, 1.0f));
@@ -135,13 +108,13 @@ void legend(const ShotJob& job, const Overlays& overlays) {
     for (size_t i = 0; i < shown; ++i) legend_row(set.legend[i].color, set.legend[i].label);
     if (set.legend.size() > shown) ImGui::Text("... %zu more", set.legend.size() - shown);
   }
-  if (job.heat == HeatKind::none) return;
+  if (job.overlays.heat == HeatKind::none) return;
   const auto colour = [](float x) {
     const std::array<uint8_t, 3> c = turbo(x);
     return glm::vec4(c[0] / 255.0f, c[1] / 255.0f, c[2] / 255.0f, 1.0f);
   };
-  legend_row(colour(0.0f), std::string("heat:") + heat_name(job.heat) + " 0");
-  legend_row(colour(1.0f), std::string("heat:") + heat_name(job.heat) + " " +
+  legend_row(colour(0.0f), std::string("heat:") + heat_name(job.overlays.heat) + " 0");
+  legend_row(colour(1.0f), std::string("heat:") + heat_name(job.overlays.heat) + " " +
                                std::to_string(uint64_t(overlays.heat_max)));
 }
 
@@ -158,7 +131,7 @@ void panel(const ShotJob& job, const nlohmann::json& stats, const Overlays& over
   ImGui::Text("subdivided     %s", figure(stats, "voxels_subdivided").c_str());
   ImGui::Text("states         %s", figure(stats, "traversal_states").c_str());
   ImGui::Text("rays/s         %s", figure(stats, "rays_per_second").c_str());
-  if (!overlays.lines.empty() || job.heat != HeatKind::none) {
+  if (!overlays.lines.empty() || job.overlays.heat != HeatKind::none) {
     ImGui::Separator();
     legend(job, overlays);
   }
@@ -213,33 +186,6 @@ void draw_and_write(const ShotJob& job, const Scene& scene, const Camera& camera
 }
 
 }  // namespace
-
-void parse_overlays(const std::string& list, ShotJob& job) {
-  size_t begin = 0;
-  while (begin <= list.size()) {
-    const size_t end = std::min(list.find(',', begin), list.size());
-    const std::string name = list.substr(begin, end - begin);
-    const HeatKind heat = name == "heat:steps"   ? HeatKind::steps
-                          : name == "heat:tests" ? HeatKind::tests
-                          : name == "heat:built" ? HeatKind::built
-                                                 : HeatKind::none;
-    if (name == "cells") {
-      job.cells = true;
-    } else if (name == "states") {
-      job.states = true;
-    } else if (name == "walk") {
-      job.walk = true;
-    } else if (heat != HeatKind::none) {
-      if (job.heat != HeatKind::none && job.heat != heat)
-        throw UsageError("--overlay '" + list + "': only one heat:KIND at a time");
-      job.heat = heat;
-    } else {
-      throw UsageError("--overlay '" + list + "': unknown overlay '" + name +
-                       "' (expected cells, states, walk, heat:steps, heat:tests, heat:built)");
-    }
-    begin = end + 1;
-  }
-}
 
 void run_shot(const ShotJob& job) {
   std::unique_ptr<Accelerator> accel = make_accelerator(job.accel, job.params);

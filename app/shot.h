@@ -8,11 +8,10 @@
 
 #include "core/accelerator.h"
 #include "core/camera.h"
+#include "core/overlay.h"
 #include "core/render.h"
 
 namespace gs::app {
-
-enum class HeatKind { none, steps, tests, built };
 
 struct ShotJob {
   std::string scene;
@@ -20,19 +19,11 @@ struct ShotJob {
   std::string accel = "grid1d";
   AccelParams params;
   RenderSettings settings;
-  std::optional<Camera> camera;  // default: frame_box of the scene
-  // Overlays (--overlay cells,states,walk,heat:KIND).
-  bool cells = false;
-  bool states = false;
-  bool walk = false;
-  HeatKind heat = HeatKind::none;
+  std::optional<Camera> camera;             // default: frame_box of the scene
+  OverlaySelection overlays;                // --overlay cells,states,walk,heat:KIND
   std::optional<std::array<int, 2>> pixel;  // the walk's pixel; default: the image centre
   bool ui = false;                          // draw the statistics panel over the frame
 };
-
-// Reads the --overlay list into the job. Throws UsageError for an unknown name or two heat
-// overlays (only one image can take the shaded image's place).
-void parse_overlays(const std::string& list, ShotJob& job);
 
 // Throws UsageError for usage problems (bad settings, a Grid1D overlay with another
 // structure, --pixel outside the image) before reading any file, InputError for a missing

@@ -51,7 +51,6 @@ constexpr int kFramesAfterClick = 2;
 using Clock = std::chrono::steady_clock;
 
 const char* const kHeatNames[] = {"none", "steps", "tests", "built"};
-enum class Heat { none, steps, tests, built };
 
 struct Rect {
   float x = 0, y = 0, w = kMinViewport, h = kMinViewport;
@@ -162,6 +161,8 @@ class Viewer {
     const std::vector<std::string> names = accelerator_names();
     edit_accel_ = int(std::find(names.begin(), names.end(), job.accel) - names.begin());
     copy_text(scene_path_, sizeof scene_path_, scene_->name);
+    show_cells_ = job.overlays.cells, show_states_ = job.overlays.states;
+    show_walk_ = job.overlays.walk, heat_ = job.overlays.heat;
     if (job.frames > 0) glfwSwapInterval(0);  // scripts need no vsync
   }
 
@@ -437,15 +438,7 @@ class Viewer {
   const std::vector<uint8_t>& heat_rgba() {
     if (!heat_dirty_) return heat_rgba_;
     heat_dirty_ = false;
-    heat_values_.assign(frame_.pixels.size(), 0.0f);
-    const float samples = float(std::max(frame_.spp, 1));  // records are sums over samples
-    for (size_t i = 0; i < frame_.pixels.size(); ++i) {
-      const PixelRecord& p = frame_.pixels[i];
-      heat_values_[i] = float(heat_ == Heat::steps   ? p.steps
-                              : heat_ == Heat::tests ? p.tests
-                                                     : p.built) /
-                        samples;
-    }
+    heat_values_ = heat_values(frame_.pixels, heat_, frame_.spp);
     heat_max_ =
         heat_values_.empty() ? 0.0f : *std::max_element(heat_values_.begin(), heat_values_.end());
     if (heat_auto_) heat_lo_ = 0.0f, heat_hi_ = std::max(heat_max_, 1.0f);
@@ -461,7 +454,7 @@ class Viewer {
     if (frame_.image.rgba.size() == pixels * 4 && pixels > 0) {
       std::vector<LineSet> lines = structure_lines_;
       if (show_walk_ && !walk_lines_.vertices.empty()) lines.push_back(walk_lines_);
-      const bool heat = heat_ != Heat::none && frame_.pixels.size() == pixels;
+      const bool heat = heat_ != HeatKind::none && frame_.pixels.size() == pixels;
       gl::FrameInput input;
       input.image_width = frame_.width;
       input.image_height = frame_.height;
@@ -562,16 +555,17 @@ class Viewer {
   void heat_controls() {
     int heat = int(heat_);
     if (ImGui::Combo("heatmap", &heat, kHeatNames, IM_ARRAYSIZE(kHeatNames))) {
-      heat_ = Heat(heat);
+      heat_ = HeatKind(heat);
       heat_dirty_ = true;
     }
-    if (heat_ == Heat::none) return;
+    if (heat_ == HeatKind::none) return;
     heat_dirty_ |= ImGui::Checkbox("auto range", &heat_auto_);
     if (ImGui::DragFloatRange2("range", &heat_lo_, &heat_hi_, 0.1f, 0.0f, 1e6f)) {
       heat_auto_ = false;
       heat_dirty_ = true;
     }
     ImGui::Text("max %.2f per sample", heat_max_);
+    heat_legend();
     const ImGuiIO& io = ImGui::GetIO();
     if (view_.contains(io.MousePos) && frame_.width > 0 && !heat_values_.empty()) {
       const int x = int((io.MousePos.x - view_.x) / view_.w * frame_.width);
@@ -581,6 +575,27 @@ class Viewer {
       if (i < heat_values_.size())
         ImGui::Text("under the cursor (%d, %d): %.2f", x, y, heat_values_[i]);
     }
+  }
+
+  // The turbo bar from the range's low to its high end.
+  void heat_legend() {
+    constexpr int kSteps = 32;
+    constexpr float kHeight = 10.0f;
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    const ImVec2 at = ImGui::GetCursorScreenPos();
+    const float width = ImGui::GetContentRegionAvail().x;
+    for (int i = 0; i < kSteps; ++i) {
+      const std::array<uint8_t, 3> c0 = turbo(float(i) / kSteps), c1 = turbo(float(i + 1) / kSteps);
+      const ImU32 left = IM_COL32(c0[0], c0[1], c0[2], 255);
+      const ImU32 right = IM_COL32(c1[0], c1[1], c1[2], 255);
+      draw->AddRectFilledMultiColor(ImVec2(at.x + width * i / kSteps, at.y),
+                                    ImVec2(at.x + width * (i + 1) / kSteps, at.y + kHeight), left,
+                                    right, right, left);
+    }
+    ImGui::Dummy(ImVec2(width, kHeight));
+    ImGui::Text("%.3g", heat_lo_);
+    ImGui::SameLine(std::max(width - 60.0f, 40.0f));
+    ImGui::Text("%.3g", heat_hi_);
   }
 
   void camera_controls() {
@@ -661,11 +676,12 @@ class Viewer {
   }
 
   void states_panel() {
-    if (!ImGui::BeginTable("states", 4, ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollY)) return;
+    if (!ImGui::BeginTable("states", 5, ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollY)) return;
     ImGui::TableSetupColumn("state");
     ImGui::TableSetupColumn("axis");
     ImGui::TableSetupColumn("G");
     ImGui::TableSetupColumn("voxels");
+    ImGui::TableSetupColumn("rays that used it");
     ImGui::TableHeadersRow();
     for (const StateRow& row : states_) {
       ImGui::TableNextRow();
@@ -677,6 +693,8 @@ class Viewer {
       ImGui::Text("%llu", (unsigned long long)row.absolute_granularity);
       ImGui::TableNextColumn();
       ImGui::Text("%llu", (unsigned long long)row.voxels);
+      ImGui::TableNextColumn();
+      ImGui::Text("%llu", (unsigned long long)row.rays);
     }
     ImGui::EndTable();
   }
@@ -813,7 +831,7 @@ class Viewer {
   AccelParams edit_params_;
 
   bool show_cells_ = false, show_states_ = false, show_walk_ = true, colour_by_axis_ = false;
-  Heat heat_ = Heat::none;
+  HeatKind heat_ = HeatKind::none;
   bool heat_auto_ = true, heat_dirty_ = true;
   float heat_lo_ = 0.0f, heat_hi_ = 1.0f, heat_max_ = 0.0f;
   std::vector<float> heat_values_;

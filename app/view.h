@@ -10,6 +10,7 @@
 
 #include "core/accelerator.h"
 #include "core/camera.h"
+#include "core/overlay.h"
 
 namespace gs::app {
 
@@ -23,6 +24,7 @@ struct ViewJob {
   std::optional<std::array<double, 2>> click;  // fractions of the viewport
   std::string screenshot;                      // PNG of the whole window, just before exiting
   std::string walk_out;                        // the clicked pixel's walk as JSON
+  OverlaySelection overlays{.walk = true};     // shown at the start (--overlay)
 };
 
 // X,Y: two numbers in 0..1. Throws UsageError otherwise.

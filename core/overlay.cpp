@@ -13,6 +13,8 @@
 #include <limits>
 #include <map>
 
+#include "core/error.h"
+
 namespace gs {
 
 namespace {
@@ -256,6 +258,63 @@ std::vector<uint8_t> heat_image(const std::vector<float>& values, float lo, floa
     std::copy(rgb.begin(), rgb.end(), pixel);
   }
   return rgba;
+}
+
+const char* heat_name(HeatKind kind) {
+  switch (kind) {
+    case HeatKind::steps:
+      return "steps";
+    case HeatKind::tests:
+      return "tests";
+    case HeatKind::built:
+      return "built";
+    case HeatKind::none:
+      break;
+  }
+  return "none";
+}
+
+std::vector<float> heat_values(const std::vector<PixelRecord>& pixels, HeatKind kind, int samples) {
+  std::vector<float> values(pixels.size(), 0.0f);
+  const float per = 1.0f / float(std::max(samples, 1));
+  for (size_t i = 0; i < pixels.size(); ++i) {
+    const PixelRecord& p = pixels[i];
+    const uint32_t figure = kind == HeatKind::steps   ? p.steps
+                            : kind == HeatKind::tests ? p.tests
+                            : kind == HeatKind::built ? p.built
+                                                      : 0;
+    values[i] = float(figure) * per;
+  }
+  return values;
+}
+
+OverlaySelection parse_overlays(const std::string& list) {
+  OverlaySelection selection;
+  size_t begin = 0;
+  while (begin <= list.size()) {
+    const size_t end = std::min(list.find(',', begin), list.size());
+    const std::string name = list.substr(begin, end - begin);
+    const HeatKind heat = name == "heat:steps"   ? HeatKind::steps
+                          : name == "heat:tests" ? HeatKind::tests
+                          : name == "heat:built" ? HeatKind::built
+                                                 : HeatKind::none;
+    if (name == "cells") {
+      selection.cells = true;
+    } else if (name == "states") {
+      selection.states = true;
+    } else if (name == "walk") {
+      selection.walk = true;
+    } else if (heat != HeatKind::none) {
+      if (selection.heat != HeatKind::none && selection.heat != heat)
+        throw UsageError("--overlay '" + list + "': only one heat:KIND at a time");
+      selection.heat = heat;
+    } else {
+      throw UsageError("--overlay '" + list + "': unknown overlay '" + name +
+                       "' (expected cells, states, walk, heat:steps, heat:tests, heat:built)");
+    }
+    begin = end + 1;
+  }
+  return selection;
 }
 
 }  // namespace gs

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/grid1d.h"
+#include "core/render.h"
 #include "core/walk.h"
 
 namespace gs {
@@ -55,6 +56,24 @@ std::vector<StateRow> state_table(const Grid1D& grid);
 // and the 12 edges of every cell it visited; the cell `highlight` (an index into walk.cells,
 // or -1 for none) in a highlight colour.
 LineSet walk_lines(const Walk& walk, int highlight = -1);
+
+// The per-pixel figures a heatmap can show (PixelRecord).
+enum class HeatKind { none, steps, tests, built };
+const char* heat_name(HeatKind kind);
+// Each pixel's figure per sample (records are sums over `samples` samples).
+std::vector<float> heat_values(const std::vector<PixelRecord>& pixels, HeatKind kind, int samples);
+
+// Which overlays to draw; `shot --overlay` and `view --overlay` take the same list.
+struct OverlaySelection {
+  bool cells = false;
+  bool states = false;
+  bool walk = false;
+  HeatKind heat = HeatKind::none;
+  bool needs_grid() const { return cells || states || walk; }
+};
+// "cells,states,walk,heat:steps|tests|built" (any subset, one heat at most). Throws
+// UsageError for an unknown name or two heat kinds.
+OverlaySelection parse_overlays(const std::string& list);
 
 // The turbo colour map (Mikhail, Google 2019), x in 0..1 (clamped), as 8-bit RGB.
 std::array<uint8_t, 3> turbo(float x);
