@@ -191,16 +191,8 @@ void run_shot(const ShotJob& job) {
   std::unique_ptr<Accelerator> accel = make_accelerator(job.accel, job.params);
   check_usage(job, *accel);
   const Scene scene = load_scene(job.scene);
-  const float aspect = float(job.settings.width) / float(job.settings.height);
-  const Camera camera = job.camera ? *job.camera : frame_box(scene.bounds(), aspect);
-
-  RunFigures figures;
-  figures.build_seconds = seconds_of([&] { accel->build(scene); }) +
-                          seconds_of([&] { sample_image(*accel, camera, job.settings); });
-  const RenderOutcome outcome = render_image(scene, *accel, camera, job.settings);
-  figures.rays = outcome.rays;
-  figures.trace_seconds = outcome.seconds;
-  figures.counters = outcome.counters;
+  const Camera camera = camera_for(job.camera, scene, job.settings);
+  const auto [outcome, figures] = build_and_render(scene, *accel, camera, job.settings);
   const nlohmann::json stats = run_stats(scene, *accel, job.params.to_json(), figures);
   const Overlays overlays = make_overlays(job, *accel, camera, outcome);
   draw_and_write(job, scene, camera, outcome, overlays, stats);

@@ -14,6 +14,7 @@
 #include <map>
 
 #include "core/error.h"
+#include "core/hash.h"
 
 namespace gs {
 
@@ -95,16 +96,6 @@ void for_each_split(const Grid1D& grid, Visit&& visit) {
   }
 }
 
-// lowbias32 (Wellons): spreads consecutive state ids over the hue circle.
-uint32_t hash(uint32_t x) {
-  x ^= x >> 16;
-  x *= 0x7feb352dU;
-  x ^= x >> 15;
-  x *= 0x846ca68bU;
-  x ^= x >> 16;
-  return x;
-}
-
 // Fully saturated-ish, full-value colour of a hue in 0..1: bright on a dark image.
 glm::vec4 bright_hue(float hue) {
   const float s = 0.75f, h6 = hue * 6.0f;
@@ -116,7 +107,7 @@ glm::vec4 bright_hue(float hue) {
 }
 
 glm::vec4 state_color(uint32_t state) {
-  return bright_hue(float(hash(state) >> 8) * (1.0f / 16777216.0f));
+  return bright_hue(float(mix_bits(state) >> 8) * (1.0f / 16777216.0f));
 }
 
 std::string state_label(const StateRow& row) {

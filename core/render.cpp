@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "core/error.h"
+#include "core/hash.h"
 #include "core/ray_io.h"
 
 namespace gs {
@@ -33,16 +34,6 @@ Lighting make_lighting(const Scene& scene, const Camera& camera) {
   const glm::vec3 light = camera.eye - camera.forward() * (0.5f * size) + camera.true_up() * size +
                           camera.right() * (0.3f * size);
   return {light, size};
-}
-
-// lowbias32 (Wellons): a cheap integer hash with good avalanche, for per-pixel jitter.
-uint32_t hash(uint32_t x) {
-  x ^= x >> 16;
-  x *= 0x7feb352dU;
-  x ^= x >> 15;
-  x *= 0x846ca68bU;
-  x ^= x >> 16;
-  return x;
 }
 
 float unit_float(uint32_t bits) { return float(bits >> 8) * (1.0f / 16777216.0f); }
@@ -113,10 +104,10 @@ void shade_row(const Scene& scene, const Accelerator& accel, ThreadContext& cont
     PixelRecord& record = records[index];
     const TraceCounters before = context.counters;
     glm::vec3 sum = sums && first_sample > 0 ? sums[index] : glm::vec3(0.0f);
-    const uint32_t seed = hash(uint32_t(py) * uint32_t(w) + uint32_t(px));
+    const uint32_t seed = mix_bits(uint32_t(py) * uint32_t(w) + uint32_t(px));
     for (int s = first_sample; s < spp; ++s) {
-      const float jx = spp == 1 ? 0.5f : unit_float(hash(seed ^ hash(2 * uint32_t(s))));
-      const float jy = spp == 1 ? 0.5f : unit_float(hash(seed ^ hash(2 * uint32_t(s) + 1)));
+      const float jx = spp == 1 ? 0.5f : unit_float(mix_bits(seed ^ mix_bits(2 * uint32_t(s))));
+      const float jy = spp == 1 ? 0.5f : unit_float(mix_bits(seed ^ mix_bits(2 * uint32_t(s) + 1)));
       const Ray ray = camera.primary_ray(px, py, w, h, jx, jy);
       float hit_t = 0.0f;
       sum += shade(scene, accel, context, ray, lighting, rays, hit_t);
@@ -252,20 +243,30 @@ void write_png(const std::string& path, int width, int height, const std::vector
   write_file(path, png);
 }
 
+Camera camera_for(const std::optional<Camera>& camera, const Scene& scene,
+                  const RenderSettings& settings) {
+  return camera ? *camera
+                : frame_box(scene.bounds(), float(settings.width) / float(settings.height));
+}
+
+RenderRun build_and_render(const Scene& scene, Accelerator& accel, const Camera& camera,
+                           const RenderSettings& settings) {
+  RenderRun run;
+  run.figures.build_seconds = seconds_of([&] { accel.build(scene); }) +
+                              seconds_of([&] { sample_image(accel, camera, settings); });
+  run.outcome = render_image(scene, accel, camera, settings);
+  run.figures.rays = run.outcome.rays;
+  run.figures.trace_seconds = run.outcome.seconds;
+  run.figures.counters = run.outcome.counters;
+  return run;
+}
+
 nlohmann::json run_render(const RenderJob& job) {
   check_render_settings(job.settings);
   std::unique_ptr<Accelerator> accel = make_accelerator(job.accel, job.params);
   const Scene scene = load_scene(job.scene);
-  const float aspect = float(job.settings.width) / float(job.settings.height);
-  const Camera camera = job.camera ? *job.camera : frame_box(scene.bounds(), aspect);
-
-  RunFigures figures;
-  figures.build_seconds = seconds_of([&] { accel->build(scene); }) +
-                          seconds_of([&] { sample_image(*accel, camera, job.settings); });
-  const RenderOutcome outcome = render_image(scene, *accel, camera, job.settings);
-  figures.rays = outcome.rays;
-  figures.trace_seconds = outcome.seconds;
-  figures.counters = outcome.counters;
+  const Camera camera = camera_for(job.camera, scene, job.settings);
+  const auto [outcome, figures] = build_and_render(scene, *accel, camera, job.settings);
   write_png(job.out_path, outcome.image.width, outcome.image.height, outcome.image.rgba);
 
   nlohmann::json stats = run_stats(scene, *accel, render_parameters(job, camera), figures);

@@ -99,6 +99,19 @@ RenderOutcome render_pass(const Scene& scene, const Accelerator& accel, const Ca
 // Throws InputError naming the path when the PNG cannot be written.
 void write_png(const std::string& path, int width, int height, const std::vector<uint8_t>& rgba);
 
+// The camera a job asked for, or the default one framing the scene for this image size.
+Camera camera_for(const std::optional<Camera>& camera, const Scene& scene,
+                  const RenderSettings& settings);
+
+// Builds the structure over the scene, runs the image's sampling pass and renders: what
+// `render` and `shot` both do. The figures are the run's, for run_stats.
+struct RenderRun {
+  RenderOutcome outcome;
+  RunFigures figures;
+};
+RenderRun build_and_render(const Scene& scene, Accelerator& accel, const Camera& camera,
+                           const RenderSettings& settings);
+
 struct RenderJob {
   std::string scene;
   std::string out_path;    // PNG

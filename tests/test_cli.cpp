@@ -3,7 +3,6 @@
 // out by hand.
 #include <gtest/gtest.h>
 #include <stb/stb_image.h>
-#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdio>
@@ -28,32 +27,16 @@ using gs::test::temp_path;
 constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
-struct Outcome {
-  int status = -1;
-  std::string out, err;
-};
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using gs::test::quoted;
+using gs::test::slurp;
+using Outcome = gs::test::CommandOutcome;
 
 void spit(const std::string& path, const std::string& bytes) {
   std::ofstream(path, std::ios::binary) << bytes;
 }
 
-std::string quoted(const std::string& word) { return "'" + word + "'"; }
-
 // Runs gridscope with `args` (already shell-quoted where needed).
-Outcome run(const std::string& args) {
-  const std::string out = temp_path("stdout.txt"), err = temp_path("stderr.txt");
-  const std::string command =
-      quoted(GRIDSCOPE_BINARY) + " " + args + " >" + quoted(out) + " 2>" + quoted(err);
-  const int raw = std::system(command.c_str());
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
-}
+Outcome run(const std::string& args) { return gs::test::run_gridscope(args); }
 
 // Exit status 1 or 2 with exactly one stderr line naming `mention`.
 void expect_failure(const Outcome& result, int status, const std::string& mention) {

@@ -2,15 +2,11 @@
 // overlays it is `render`'s image exactly; each overlay changes the pixels where what it
 // draws projects and leaves the others alone; bad input gives the promised exit status.
 #include <gtest/gtest.h>
-#include <stb/stb_image.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -20,48 +16,17 @@ namespace {
 
 using gs::test::temp_path;
 
-struct Outcome {
-  int status = -1;
-  std::string err;
-};
+using gs::test::load_png;
+using gs::test::Png;
+using gs::test::slurp;
+using Outcome = gs::test::CommandOutcome;
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
+Outcome run(const std::string& args) { return gs::test::run_gridscope(args); }
+
+bool same_at(const Png& a, const Png& b, int x, int y) {
+  return std::equal(a.at(x, y), a.at(x, y) + 4, b.at(x, y));
 }
 
-Outcome run(const std::string& args) {
-  const std::string err = temp_path("shot_stderr.txt");
-  const std::string command = "'" GRIDSCOPE_BINARY "' " + args + " >/dev/null 2>'" + err + "'";
-  const int raw = std::system(command.c_str());
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(err)};
-}
-
-struct Png {
-  int width = 0, height = 0;
-  std::vector<unsigned char> rgba;
-  const unsigned char* at(int x, int y) const { return &rgba[(size_t(y) * width + x) * 4]; }
-  bool same_at(const Png& other, int x, int y) const {
-    return std::equal(at(x, y), at(x, y) + 4, other.at(x, y));
-  }
-};
-
-Png load_png(const std::string& path) {
-  const std::string bytes = slurp(path);
-  Png png;
-  int channels = 0;
-  unsigned char* data =
-      stbi_load_from_memory(reinterpret_cast<const unsigned char*>(bytes.data()), int(bytes.size()),
-                            &png.width, &png.height, &channels, 4);
-  if (!data) return png;
-  png.rgba.assign(data, data + size_t(png.width) * png.height * 4);
-  stbi_image_free(data);
-  return png;
-}
-
-// Runs a command that writes `name` and returns its image (empty on failure).
 Png image_of(const std::string& command, const std::string& name, const std::string& args) {
   const std::string path = temp_path(name);
   const Outcome result = run(command + " " + args + " --out '" + path + "'");
@@ -87,7 +52,8 @@ std::pair<double, double> project(double x, double y, double z) {
 bool changed_near(const Png& a, const Png& b, double x, double y, int radius) {
   for (int py = int(std::lround(y)) - radius; py <= int(std::lround(y)) + radius; ++py)
     for (int px = int(std::lround(x)) - radius; px <= int(std::lround(x)) + radius; ++px)
-      if (px >= 0 && py >= 0 && px < a.width && py < a.height && !a.same_at(b, px, py)) return true;
+      if (px >= 0 && py >= 0 && px < a.width && py < a.height && !same_at(a, b, px, py))
+        return true;
   return false;
 }
 
@@ -140,7 +106,7 @@ TEST(Shot, HeatReplacesTheShadedImage) {
   ASSERT_EQ(heat.width, kSide);
   // Background pixels take turbo's colour for their count, not the background colour, and
   // shaded grey (r = g = b) pixels become coloured ones.
-  EXPECT_FALSE(heat.same_at(plain, 2, 2));
+  EXPECT_FALSE(same_at(heat, plain, 2, 2));
   int grey = 0;
   for (size_t i = 0; i < heat.rgba.size(); i += 4)
     grey += heat.rgba[i] == heat.rgba[i + 1] && heat.rgba[i + 1] == heat.rgba[i + 2];
@@ -155,7 +121,7 @@ TEST(Shot, UiChangesOnlyThePanel) {
   int x0 = ui.width, y0 = ui.height, x1 = -1, y1 = -1, changed = 0;
   for (int y = 0; y < ui.height; ++y)
     for (int x = 0; x < ui.width; ++x)
-      if (!ui.same_at(plain, x, y)) {
+      if (!same_at(ui, plain, x, y)) {
         x0 = std::min(x0, x), y0 = std::min(y0, y), x1 = std::max(x1, x), y1 = std::max(y1, y);
         ++changed;
       }

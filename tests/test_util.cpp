@@ -1,10 +1,14 @@
 #include "tests/test_util.h"
 
+#include <stb/stb_image.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <glm/geometric.hpp>
+#include <sstream>
 #include <thread>
 
 namespace gs::test {
@@ -19,6 +23,36 @@ std::string temp_path(const std::string& name) {
       std::filesystem::temp_directory_path() / ("gridscope-test-" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   return (dir / name).string();
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::string quoted(const std::string& word) { return "'" + word + "'"; }
+
+CommandOutcome run_gridscope(const std::string& args, const std::string& prefix) {
+  const std::string out = temp_path("stdout.txt"), err = temp_path("stderr.txt");
+  const std::string command = "timeout 300 " + prefix + " " + quoted(GRIDSCOPE_BINARY) + " " +
+                              args + " >" + quoted(out) + " 2>" + quoted(err);
+  const int raw = std::system(command.c_str());
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
+}
+
+Png load_png(const std::string& path) {
+  const std::string bytes = slurp(path);
+  Png png;
+  int channels = 0;
+  unsigned char* data =
+      stbi_load_from_memory(reinterpret_cast<const unsigned char*>(bytes.data()), int(bytes.size()),
+                            &png.width, &png.height, &channels, 4);
+  if (!data) return png;
+  png.rgba.assign(data, data + size_t(png.width) * size_t(png.height) * 4);
+  stbi_image_free(data);
+  return png;
 }
 
 Scene make_sphere(glm::vec3 centre, float radius, int rings, int segments) {

@@ -16,6 +16,26 @@ namespace gs::test {
 std::string shared_file(const std::string& relative);
 // A fresh path under the system temp folder; the file is not created.
 std::string temp_path(const std::string& name);
+// The whole file ("" when it cannot be read).
+std::string slurp(const std::string& path);
+// Single-quoted for the shell.
+std::string quoted(const std::string& word);
+
+// Runs `prefix gridscope args` through the shell (args quoted where needed) under a time
+// limit, so a hung program fails its test instead of stalling the suite.
+struct CommandOutcome {
+  int status = -1;
+  std::string out, err;
+};
+CommandOutcome run_gridscope(const std::string& args, const std::string& prefix = "");
+
+// A PNG decoded to RGBA8 (empty when it cannot be read).
+struct Png {
+  int width = 0, height = 0;
+  std::vector<unsigned char> rgba;
+  const unsigned char* at(int x, int y) const { return &rgba[(size_t(y) * width + x) * 4]; }
+};
+Png load_png(const std::string& path);
 
 // A closed UV sphere with shared vertices (poles included), `rings` x `segments`.
 Scene make_sphere(glm::vec3 centre, float radius, int rings, int segments);

@@ -3,13 +3,9 @@
 // the one `trace --walk` records for the same pixel's ray (same sampling pass, same cuts).
 // Skips with a message when xvfb-run is not installed.
 #include <gtest/gtest.h>
-#include <stb/stb_image.h>
-#include <sys/wait.h>
 
 #include <cstdlib>
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 
 #include "core/camera.h"
@@ -19,25 +15,12 @@ namespace {
 
 using gs::test::temp_path;
 
-struct Outcome {
-  int status = -1;
-  std::string out, err;
-};
+using gs::test::slurp;
+using Outcome = gs::test::CommandOutcome;
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-// Runs `prefix gridscope args`; a generous timeout so a hung window fails instead of hanging.
+// Runs `prefix gridscope args` (a time limit keeps a hung window from stalling the suite).
 Outcome run(const std::string& args, const std::string& prefix = "") {
-  const std::string out = temp_path("view_stdout.txt"), err = temp_path("view_stderr.txt");
-  const std::string command = "timeout 120 " + prefix + " '" GRIDSCOPE_BINARY "' " + args + " >'" +
-                              out + "' 2>'" + err + "'";
-  const int raw = std::system(command.c_str());
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
+  return gs::test::run_gridscope(args, prefix);
 }
 
 bool have_xvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 0; }
@@ -56,17 +39,10 @@ struct PngFacts {
 };
 
 PngFacts png_facts(const std::string& path) {
-  const std::string bytes = slurp(path);
-  PngFacts facts;
-  int channels = 0;
-  unsigned char* data =
-      stbi_load_from_memory(reinterpret_cast<const unsigned char*>(bytes.data()), int(bytes.size()),
-                            &facts.width, &facts.height, &channels, 4);
-  if (!data) return facts;
-  const uint32_t* pixels = reinterpret_cast<const uint32_t*>(data);
-  for (size_t i = 1; i < size_t(facts.width) * facts.height && facts.uniform; ++i)
-    facts.uniform = pixels[i] == pixels[0];
-  stbi_image_free(data);
+  const gs::test::Png png = gs::test::load_png(path);
+  PngFacts facts{png.width, png.height, true};
+  for (size_t i = 4; i < png.rgba.size() && facts.uniform; ++i)
+    facts.uniform = png.rgba[i] == png.rgba[i % 4];
   return facts;
 }
 
