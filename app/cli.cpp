@@ -140,6 +140,13 @@ Flags structure_flags(AccelParams& p) {
       {"--axis", true, [&p](const std::string& v) { p.axis = parse_axis(v); }},
       {"--max-depth", true,
        [&p](const std::string& v) { p.max_depth = parse_int("--max-depth", v, 1, 64); }},
+      {"--leaf-size", true,
+       [&p](const std::string& v) { p.leaf_size = parse_int("--leaf-size", v, 1, 1 << 20); }},
+      {"--density", true,
+       [&p](const std::string& v) {
+         p.density = parse_cost("--density", v);
+         if (p.density <= 0.0) bad_value("--density", v, "a number > 0");
+       }},
       {"--sample-every", true,
        [&p](const std::string& v) {
          p.sample_every = parse_int("--sample-every", v, 1, std::numeric_limits<int>::max());

@@ -17,6 +17,8 @@ nlohmann::json AccelParams::to_json() const {
           {"max_granularity", max_granularity},
           {"axis", axis == AxisRule::alternate ? "alternate" : "cost"},
           {"max_depth", max_depth},
+          {"leaf_size", leaf_size},
+          {"density", density},
           {"memory_budget", memory_budget},
           {"sample_every", sample_every}};
 }

@@ -29,12 +29,18 @@ struct AccelParams {
   double subcost = 2.0;   // sorting one triangle into a voxel's cells
   int max_granularity = 20;
   AxisRule axis = AxisRule::alternate;
-  int max_depth = 32;                          // voxel depth cap (degenerate input)
+  // Each structure's own limits; 0 means the structure's default (grid1d: depth 32; the
+  // octree, nested grid and BVH document theirs).
+  int max_depth = 0;      // tree depth cap
+  int leaf_size = 0;      // triangles a node may hold before it is split (octree, grid3d, bvh)
+  double density = 0.0;   // uniform grid: cells per triangle (0: the paper's cbrt(N) per side)
   uint64_t memory_budget = uint64_t{8} << 30;  // bytes of structure, reserved not committed
   // Sampling pass (§6.5): one sample ray per this many rays of the run.
   int sample_every = 64;
 
   nlohmann::json to_json() const;
+  int depth_or(int fallback) const { return max_depth > 0 ? max_depth : fallback; }
+  int leaf_size_or(int fallback) const { return leaf_size > 0 ? leaf_size : fallback; }
 };
 
 // Counters a tracing thread accumulates; merged by the caller at the end of a run.

@@ -22,6 +22,9 @@ constexpr uint64_t kMaxAbsoluteGranularity = uint64_t{1} << 50;
 // both cells): DESIGN.md §1, degenerate input.
 constexpr double kMinCellUlps = 256.0;
 constexpr double kMinCellPaddings = 4.0;
+// Depth cap when --max-depth is not given: far deeper than the cost function goes on real
+// scenes; it bounds degenerate input.
+constexpr int kDefaultMaxDepth = 32;
 // The walk ends when the current cell's exit lies beyond the nearest hit by more than the
 // float kernel's error (relative to the distances involved); see Grid1D::trace.
 constexpr double kExitSlack = 1e-9;
@@ -635,7 +638,7 @@ Grid1D::Cut Grid1D::plan_cut(uint32_t id) const {
   Cut cut;
   const Voxel& voxel = voxels_[id];
   const Region& region = regions_[id];
-  if (voxel.tri_count < 2 || region.depth >= uint32_t(params_.max_depth)) return cut;
+  if (voxel.tri_count < 2 || region.depth >= uint32_t(params_.depth_or(kDefaultMaxDepth))) return cut;
   double lo[3], hi[3];
   voxel_box(id, lo, hi);
   const VoxelFigures figures = figures_of(id, lo, hi);
