@@ -27,7 +27,8 @@ constexpr const char* kUsage = R"(usage: gridscope COMMAND ...
 
   gridscope trace  SCENE --rays FILE --out FILE [--accel NAME] [--threads N]
                    [--stats FILE.json] [--eager] [--occluded] [--repeat N]
-                   [--walk I --walk-out FILE.json] [--sample-image WxH] [STRUCTURE FLAGS]
+                   [--walk I --walk-out FILE.json] [--sample-image WxH] [--oracle FILE.hits]
+                   [STRUCTURE FLAGS]
   gridscope render SCENE --out FILE.png [--size WxH] [--camera STRING] [--spp N]
                    [--accel NAME] [--threads N] [--stats FILE.json] [STRUCTURE FLAGS]
   gridscope shot   SCENE --out FILE.png [--size WxH] [--camera STRING] [--spp N]
@@ -45,6 +46,9 @@ Structure flags (the paper's cost constants and limits):
   --intcost --repcost --travcost --vertcost --subcost X   finite, >= 0
   --max-granularity N (1..4096)   --axis alternate|cost   --max-depth N (1..64)
   --sample-every N (>= 1)         --memory-budget BYTES (suffix K, M or G allowed)
+  --build-threads N (0 = all; embree's build)
+--accel: brute, grid1d, embree (when built with Embree), zero (trace only: the paper's
+  zero-overhead oracle, given --oracle FILE.hits from an earlier trace of the same rays).
 shot draws the viewer's frame headless (OSMesa); --overlay takes any of
   cells, states, walk, heat:steps, heat:tests, heat:built (comma-separated);
   --pixel X,Y picks the walk's pixel (default: the image centre).
@@ -153,6 +157,10 @@ Flags structure_flags(AccelParams& p) {
        }},
       {"--memory-budget", true,
        [&p](const std::string& v) { p.memory_budget = parse_bytes("--memory-budget", v); }},
+      {"--build-threads", true,
+       [&p](const std::string& v) {
+         p.build_threads = parse_int("--build-threads", v, 0, kMaxThreads);
+       }},
   };
 }
 
@@ -226,6 +234,7 @@ int trace_command(std::span<const std::string> words) {
                    job.walk_ray = parse_int("--walk", v, 0, std::numeric_limits<int>::max());
                  }},
                 string_flag("--walk-out", job.walk_path),
+                string_flag("--oracle", job.params.oracle_path),
                 {"--sample-image", true, [&job](const std::string& v) {
                    RenderSettings size;
                    parse_size(v, size, "--sample-image");

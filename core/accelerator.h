@@ -31,12 +31,16 @@ struct AccelParams {
   AxisRule axis = AxisRule::alternate;
   // Each structure's own limits; 0 means the structure's default (grid1d: depth 32; the
   // octree, nested grid and BVH document theirs).
-  int max_depth = 0;      // tree depth cap
-  int leaf_size = 0;      // triangles a node may hold before it is split (octree, grid3d, bvh)
-  double density = 0.0;   // uniform grid: cells per triangle (0: the paper's cbrt(N) per side)
+  int max_depth = 0;     // tree depth cap
+  int leaf_size = 0;     // triangles a node may hold before it is split (octree, grid3d, bvh)
+  double density = 0.0;  // uniform grid: cells per triangle (0: the paper's cbrt(N) per side)
   uint64_t memory_budget = uint64_t{8} << 30;  // bytes of structure, reserved not committed
   // Sampling pass (§6.5): one sample ray per this many rays of the run.
   int sample_every = 64;
+  // embree: threads its device builds with (0: all cores). Tracing threads are --threads.
+  int build_threads = 0;
+  // zero: the hit file of an earlier run over the same rays (required by "zero").
+  std::string oracle_path;
 
   nlohmann::json to_json() const;
   int depth_or(int fallback) const { return max_depth > 0 ? max_depth : fallback; }
@@ -58,8 +62,13 @@ struct TraceCounters {
 // Owned by exactly one thread at a time.
 class ThreadContext {
  public:
+  static constexpr uint64_t kNoRayIndex = ~uint64_t{0};
   virtual ~ThreadContext() = default;
   TraceCounters counters;
+  // The position of the ray being traced in the run's ray file, set by run_trace before
+  // each call; kNoRayIndex elsewhere (renders). Only "zero" reads it: its oracle is keyed
+  // by ray index.
+  uint64_t ray_index = kNoRayIndex;
 };
 
 // Structure figures; std::nullopt where a structure cannot measure one (written as null).
@@ -72,6 +81,10 @@ struct StructureStats {
   double build_seconds =
       0.0;  // up-front build plus the sampling pass (lazy work is added by callers)
   uint64_t voxels_over_budget = 0;  // voxels left leaves because the memory budget was reached
+  // False for a structure whose tests (with its mailbox rejections) or cell steps cannot be
+  // counted (embree): run_stats writes those counters as null instead of a made-up 0.
+  bool counts_tests = true;
+  bool counts_steps = true;
 };
 
 class Accelerator {

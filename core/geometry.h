@@ -19,6 +19,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
+#include <limits>
 #include <vector>
 
 #include "core/ray.h"
@@ -98,6 +99,24 @@ struct ClipBox {
     return clip(ray, t0, t1, inv_dir);
   }
 };
+
+// How far past the nearest hit a structure's walk must look before it may stop. The
+// kernel's t is off from the exact crossing by a few double ulps of the distances involved
+// (1e-9 of them is ample), so a hit may be reported slightly before the wall it lies behind.
+inline double walk_slack(const Ray& ray, double scene_magnitude) {
+  double largest = scene_magnitude, longest = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    largest = std::max(largest, std::fabs(double(ray.origin[a])));
+    longest = std::max(longest, std::fabs(double(ray.dir[a])));
+  }
+  return 1e-9 * largest / longest;
+}
+// A walk may stop once the current cell's (or node's) entry or exit lies beyond this: the
+// nearest hit's t (or tmax) is rounded to float, so a triangle hit at the same float t —
+// which wins if its id is lower — may cross the ray up to the next float beyond it.
+inline double stop_distance(float tmax, double slack) {
+  return double(std::nextafter(tmax, std::numeric_limits<float>::infinity())) + slack;
+}
 
 // The per-ray part of the test: axis permutation and shear (section 3 of the paper). The
 // origin is first moved along the ray to where it enters the clip box (`shift`), so that

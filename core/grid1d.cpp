@@ -25,9 +25,6 @@ constexpr double kMinCellPaddings = 4.0;
 // Depth cap when --max-depth is not given: far deeper than the cost function goes on real
 // scenes; it bounds degenerate input.
 constexpr int kDefaultMaxDepth = 32;
-// The walk ends when the current cell's exit lies beyond the nearest hit by more than the
-// float kernel's error (relative to the distances involved); see Grid1D::trace.
-constexpr double kExitSlack = 1e-9;
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -322,17 +319,11 @@ Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
   double t_enter, t_leave;
   RayWalk walk;
   if (!root_.clip(ray, t_enter, t_leave, walk.inv_dir)) return best;
-  double largest = root_.magnitude, longest = 0.0;
   for (int a = 0; a < 3; ++a) {
     walk.origin[a] = ray.origin[a], walk.dir[a] = ray.dir[a];
     walk.step[a] = walk.dir[a] > 0.0 ? 1 : walk.dir[a] < 0.0 ? -1 : 0;
-    largest = std::max(largest, std::fabs(walk.origin[a]));
-    longest = std::max(longest, std::fabs(walk.dir[a]));
   }
-  // The float kernel's t is off from the exact crossing by a few ulps of the distances
-  // involved; a hit may therefore be reported up to this much before the wall it lies
-  // behind, and the walk must not stop until the cell exit is past it by more than that.
-  const double slack = kExitSlack * largest / longest;
+  const double slack = walk_slack(ray, root_.magnitude);
   walk.ray_id = ++context.ray_id;
   for (uint32_t a = 0; a < 3; ++a) {
     Context::StateValues& box = context.state(a);
@@ -360,7 +351,7 @@ Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
     const bool z_first = walk.t_next[2] < t_xy;
     const int s = z_first ? 2 : int(y_first);
     const double t_exit = z_first ? walk.t_next[2] : t_xy;
-    if (t_exit > double(tmax) + slack) break;
+    if (t_exit > stop_distance(tmax, slack)) break;
     // Step one cell on axis s; climb while the step leaves the current 1D array (§5.3).
     uint32_t id = walk.active[s];
     uint64_t local = 0;
@@ -638,7 +629,8 @@ Grid1D::Cut Grid1D::plan_cut(uint32_t id) const {
   Cut cut;
   const Voxel& voxel = voxels_[id];
   const Region& region = regions_[id];
-  if (voxel.tri_count < 2 || region.depth >= uint32_t(params_.depth_or(kDefaultMaxDepth))) return cut;
+  if (voxel.tri_count < 2 || region.depth >= uint32_t(params_.depth_or(kDefaultMaxDepth)))
+    return cut;
   double lo[3], hi[3];
   voxel_box(id, lo, hi);
   const VoxelFigures figures = figures_of(id, lo, hi);
