@@ -14,41 +14,7 @@
 namespace gs {
 namespace {
 
-struct Case {
-  std::string name;
-  Scene scene;
-  std::vector<Ray> rays;
-  std::vector<Hit> expected;  // brute's answers
-};
-
-Scene stadium() {
-  // Dense detail in a small region, sparse big triangles around it, 1000x larger.
-  Scene detail = test::make_soup(7, 2500, glm::vec3(-1), glm::vec3(1), 0.05f);
-  Scene ground;
-  ground.vertices = {{-1000, -2, -1000}, {1000, -2, -1000},  {1000, -2, 1000},
-                     {-1000, -2, 1000},  {-1000, 500, 1000}, {1000, 500, 1000}};
-  ground.triangles = {{0, 1, 2}, {0, 2, 3}, {3, 2, 5}, {3, 5, 4}};
-  return test::merge(test::merge(test::make_sphere({0, 0, 0}, 0.5f, 16, 32), detail), ground);
-}
-
-Scene wall_planes() {
-  // Quads lying exactly in planes x = k/8 and y = k/8 of a unit box: on the walls of the
-  // cells a power-of-two cut makes, where rays hit them exactly.
-  Scene scene;
-  for (int k = 0; k <= 8; ++k) {
-    const float c = k / 8.0f;
-    const uint32_t b = uint32_t(scene.vertices.size());
-    scene.vertices.insert(scene.vertices.end(), {{c, 0.1f, 0.1f},
-                                                 {c, 0.9f, 0.1f},
-                                                 {c, 0.9f, 0.6f},
-                                                 {0.1f, c, 0.5f},
-                                                 {0.9f, c, 0.5f},
-                                                 {0.9f, c, 0.9f}});
-    scene.triangles.emplace_back(b, b + 1, b + 2);
-    scene.triangles.emplace_back(b + 3, b + 4, b + 5);
-  }
-  return test::merge(scene, test::make_soup(3, 500, glm::vec3(0), glm::vec3(1), 0.04f));
-}
+using Case = test::BruteCase;
 
 std::vector<Case>& cases() {
   static std::vector<Case> all = [] {
@@ -58,10 +24,9 @@ std::vector<Case>& cases() {
         "sphere+soup",
         test::merge(test::make_sphere({0.3f, -0.2f, 0.1f}, 1.0f, 24, 48),
                     test::make_soup(11, 1500, glm::vec3(-1.5f), glm::vec3(1.5f), 0.1f)));
-    scenes.emplace_back("stadium", stadium());
-    scenes.emplace_back("wall planes", wall_planes());
+    scenes.emplace_back("stadium", test::stadium_scene(2500));
+    scenes.emplace_back("wall planes", test::wall_planes_scene());
     std::vector<Case> out;
-    BruteForce brute;
     for (auto& [name, scene] : scenes) {
       Case c{name, scene, {}, {}};
       const Box box = scene.bounds();
@@ -69,9 +34,7 @@ std::vector<Case>& cases() {
            {test::camera_rays(box, 110, 100), test::random_chords(box, 1, 10000),
             test::axis_parallel_rays(box, 2, 6000), test::edge_and_vertex_rays(scene, 3, 6000)})
         c.rays.insert(c.rays.end(), set.begin(), set.end());
-      BruteForce reference;
-      reference.build(c.scene);
-      c.expected = test::trace_all(reference, c.rays, 2);
+      c.expected = test::brute_answers(c.scene, c.rays);
       out.push_back(std::move(c));
     }
     return out;

@@ -44,41 +44,7 @@ std::unique_ptr<Accelerator> make(const Config& config, const Scene& scene) {
   return accel;
 }
 
-struct Case {
-  std::string name;
-  Scene scene;
-  std::vector<Ray> rays;
-  std::vector<Hit> expected;  // brute's answers
-};
-
-Scene stadium() {
-  // A dense cluster inside a 1000x larger box of a few big triangles.
-  Scene detail = test::make_soup(7, 2000, glm::vec3(-1), glm::vec3(1), 0.05f);
-  Scene ground;
-  ground.vertices = {{-1000, -2, -1000}, {1000, -2, -1000},  {1000, -2, 1000},
-                     {-1000, -2, 1000},  {-1000, 500, 1000}, {1000, 500, 1000}};
-  ground.triangles = {{0, 1, 2}, {0, 2, 3}, {3, 2, 5}, {3, 5, 4}};
-  return test::merge(test::merge(test::make_sphere({0, 0, 0}, 0.5f, 16, 32), detail), ground);
-}
-
-Scene wall_planes() {
-  // Quads exactly in the planes x = k/8 and y = k/8 of a unit box: on cell walls of
-  // power-of-two resolutions.
-  Scene scene;
-  for (int k = 0; k <= 8; ++k) {
-    const float c = k / 8.0f;
-    const uint32_t b = uint32_t(scene.vertices.size());
-    scene.vertices.insert(scene.vertices.end(), {{c, 0.1f, 0.1f},
-                                                 {c, 0.9f, 0.1f},
-                                                 {c, 0.9f, 0.6f},
-                                                 {0.1f, c, 0.5f},
-                                                 {0.9f, c, 0.5f},
-                                                 {0.9f, c, 0.9f}});
-    scene.triangles.emplace_back(b, b + 1, b + 2);
-    scene.triangles.emplace_back(b + 3, b + 4, b + 5);
-  }
-  return test::merge(scene, test::make_soup(3, 500, glm::vec3(0), glm::vec3(1), 0.04f));
-}
+using Case = test::BruteCase;
 
 // Camera rays, chords (a fifth with -0.0 or 1e-30 components), axis-parallel rays and
 // rays aimed exactly at edges and vertices.
@@ -101,14 +67,12 @@ std::vector<Case>& cases() {
         "sphere+soup",
         test::merge(test::make_sphere({0.3f, -0.2f, 0.1f}, 1.0f, 24, 48),
                     test::make_soup(11, 1500, glm::vec3(-1.5f), glm::vec3(1.5f), 0.1f)));
-    scenes.emplace_back("stadium", stadium());
-    scenes.emplace_back("wall planes", wall_planes());
+    scenes.emplace_back("stadium", test::stadium_scene(2000));
+    scenes.emplace_back("wall planes", test::wall_planes_scene());
     std::vector<Case> out;
     for (auto& [name, scene] : scenes) {
       Case c{name, scene, mixed_rays(scene, 6), {}};
-      BruteForce brute;
-      brute.build(c.scene);
-      c.expected = test::trace_all(brute, c.rays, 2);
+      c.expected = test::brute_answers(c.scene, c.rays);
       out.push_back(std::move(c));
     }
     return out;

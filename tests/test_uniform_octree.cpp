@@ -47,22 +47,7 @@ std::string setting_name(const testing::TestParamInfo<Setting>& info) {
   return name;
 }
 
-struct Case {
-  std::string name;
-  Scene scene;
-  std::vector<Ray> rays;
-  std::vector<Hit> expected;  // brute's answers
-};
-
-Scene stadium() {
-  // A dense cluster in a 1000x larger box ("teapot in a stadium").
-  Scene detail = test::make_soup(7, 2500, glm::vec3(-1), glm::vec3(1), 0.05f);
-  Scene ground;
-  ground.vertices = {{-1000, -2, -1000}, {1000, -2, -1000},  {1000, -2, 1000},
-                     {-1000, -2, 1000},  {-1000, 500, 1000}, {1000, 500, 1000}};
-  ground.triangles = {{0, 1, 2}, {0, 2, 3}, {3, 2, 5}, {3, 5, 4}};
-  return test::merge(test::merge(test::make_sphere({0, 0, 0}, 0.5f, 16, 32), detail), ground);
-}
+using Case = test::BruteCase;
 
 // Quads in the planes x, y, z = k/4 - 1 of the box [-1, 1]^3. The box is symmetric, so the
 // planes through 0 lie exactly on the octree's root mid-planes and on the uniform grid's
@@ -103,12 +88,6 @@ std::vector<Ray> in_plane_rays(uint32_t seed, int count) {
   return rays;
 }
 
-std::vector<Hit> brute_answers(const Scene& scene, const std::vector<Ray>& rays) {
-  BruteForce brute;
-  brute.build(scene);
-  return test::trace_all(brute, rays, 2);
-}
-
 std::vector<Case>& cases() {
   static std::vector<Case> all = [] {
     std::vector<std::pair<std::string, Scene>> scenes;
@@ -117,7 +96,7 @@ std::vector<Case>& cases() {
         "sphere+soup",
         test::merge(test::make_sphere({0.3f, -0.2f, 0.1f}, 1.0f, 24, 48),
                     test::make_soup(11, 1500, glm::vec3(-1.5f), glm::vec3(1.5f), 0.1f)));
-    scenes.emplace_back("stadium", stadium());
+    scenes.emplace_back("stadium", test::stadium_scene(2500));
     scenes.emplace_back("wall planes", wall_planes());
     std::vector<Case> out;
     for (auto& [name, scene] : scenes) {
@@ -131,7 +110,7 @@ std::vector<Case>& cases() {
         const auto planar = in_plane_rays(4, 3000);
         c.rays.insert(c.rays.end(), planar.begin(), planar.end());
       }
-      c.expected = brute_answers(c.scene, c.rays);
+      c.expected = test::brute_answers(c.scene, c.rays);
       out.push_back(std::move(c));
     }
     return out;
@@ -194,7 +173,7 @@ INSTANTIATE_TEST_SUITE_P(Settings, MatchesBrute, testing::ValuesIn(settings()), 
 // Numerical stress: each scene through both structures (two settings each, 1 and 2
 // threads); counts the rays whose answers differ from brute's.
 size_t disagreements(const Scene& scene, const std::vector<Ray>& rays) {
-  const std::vector<Hit> expected = brute_answers(scene, rays);
+  const std::vector<Hit> expected = test::brute_answers(scene, rays);
   size_t bad = 0;
   for (const Setting& s : {Setting{"uniform", 0.0, 0, 0, 1}, Setting{"uniform", 4.0, 0, 0, 2},
                            Setting{"octree", 0.0, 0, 0, 2}, Setting{"octree", 0.0, 8, 1, 1}}) {
@@ -323,7 +302,7 @@ TEST(Stress, ClosedSphereFarAwayShotFromInsideHasNoEscapes) {
     if (rays.size() % 7 == 0) ray.dir[rays.size() % 3] = 0.0f;
     rays.push_back(ray);
   }
-  const std::vector<Hit> expected = brute_answers(scene, rays);
+  const std::vector<Hit> expected = test::brute_answers(scene, rays);
   for (const std::string name : {"uniform", "octree"}) {
     const auto accel = make({name}, scene);
     const std::vector<Hit> hits = test::trace_all(*accel, rays, 2);

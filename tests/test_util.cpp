@@ -11,6 +11,8 @@
 #include <sstream>
 #include <thread>
 
+#include "core/brute.h"
+
 namespace gs::test {
 
 std::string shared_file(const std::string& relative) {
@@ -111,6 +113,38 @@ Scene transformed(const Scene& scene, float scale, glm::vec3 offset) {
   Scene out = scene;
   for (glm::vec3& v : out.vertices) v = v * scale + offset;
   return out;
+}
+
+Scene stadium_scene(int detail) {
+  Scene cluster = make_soup(7, detail, glm::vec3(-1), glm::vec3(1), 0.05f);
+  Scene ground;
+  ground.vertices = {{-1000, -2, -1000}, {1000, -2, -1000},  {1000, -2, 1000},
+                     {-1000, -2, 1000},  {-1000, 500, 1000}, {1000, 500, 1000}};
+  ground.triangles = {{0, 1, 2}, {0, 2, 3}, {3, 2, 5}, {3, 5, 4}};
+  return merge(merge(make_sphere({0, 0, 0}, 0.5f, 16, 32), cluster), ground);
+}
+
+Scene wall_planes_scene() {
+  Scene scene;
+  for (int k = 0; k <= 8; ++k) {
+    const float c = k / 8.0f;
+    const uint32_t b = uint32_t(scene.vertices.size());
+    scene.vertices.insert(scene.vertices.end(), {{c, 0.1f, 0.1f},
+                                                 {c, 0.9f, 0.1f},
+                                                 {c, 0.9f, 0.6f},
+                                                 {0.1f, c, 0.5f},
+                                                 {0.9f, c, 0.5f},
+                                                 {0.9f, c, 0.9f}});
+    scene.triangles.emplace_back(b, b + 1, b + 2);
+    scene.triangles.emplace_back(b + 3, b + 4, b + 5);
+  }
+  return merge(scene, make_soup(3, 500, glm::vec3(0), glm::vec3(1), 0.04f));
+}
+
+std::vector<Hit> brute_answers(const Scene& scene, const std::vector<Ray>& rays) {
+  BruteForce brute;
+  brute.build(scene);
+  return trace_all(brute, rays, 2);
 }
 
 std::vector<Ray> camera_rays(const Box& box, int width, int height) {

@@ -46,6 +46,23 @@ Scene merge(const Scene& a, const Scene& b);
 // Every vertex mapped by p -> p * scale + offset.
 Scene transformed(const Scene& scene, float scale, glm::vec3 offset);
 
+// Dense detail in a small region (a sphere and `detail` small triangles in [-1, 1]^3) inside
+// a 1000x larger box of a few big triangles: "teapot in a stadium".
+Scene stadium_scene(int detail);
+// Quads exactly in the planes x = k/8 and y = k/8 of a unit box (on the walls of every
+// power-of-two cut, where rays hit them exactly) among small triangles.
+Scene wall_planes_scene();
+
+// A scene, rays through it and brute force's answers: what each structure's suite compares
+// with.
+struct BruteCase {
+  std::string name;
+  Scene scene;
+  std::vector<Ray> rays;
+  std::vector<Hit> expected;
+};
+std::vector<Hit> brute_answers(const Scene& scene, const std::vector<Ray>& rays);
+
 // Ray sets over a scene's box.
 std::vector<Ray> camera_rays(const Box& box, int width, int height);
 std::vector<Ray> random_chords(const Box& box, uint32_t seed, int count);
