@@ -1,6 +1,7 @@
 #include "core/geometry.h"
 
 #include <algorithm>
+#include <cfloat>
 
 namespace gs {
 
@@ -32,6 +33,25 @@ ClipBox::ClipBox(const Box& scene) : empty(scene.empty()) {
         std::max({magnitude, std::fabs(double(scene.lo[a])), std::fabs(double(scene.hi[a]))});
   padding = kPadding * magnitude;
   for (int a = 0; a < 3; ++a) lo[a] = scene.lo[a] - padding, hi[a] = scene.hi[a] + padding;
+}
+
+double ClipBox::min_cell_width(const double lo[3], const double hi[3]) const {
+  double local_magnitude = 0.0;
+  for (int a = 0; a < 3; ++a)
+    local_magnitude = std::max({local_magnitude, std::fabs(lo[a]), std::fabs(hi[a])});
+  return std::max(kMinCellUlps * FLT_EPSILON * local_magnitude, kMinCellPaddings * padding);
+}
+
+std::vector<double> ClipBox::padded_boxes(const std::vector<TriangleVerts>& triangles) const {
+  std::vector<double> boxes(triangles.size() * 6);
+  for (size_t id = 0; id < triangles.size(); ++id) {
+    const TriangleVerts& t = triangles[id];
+    const glm::dvec3 lo = glm::dvec3(glm::min(t.v0, glm::min(t.v1, t.v2))) - padding;
+    const glm::dvec3 hi = glm::dvec3(glm::max(t.v0, glm::max(t.v1, t.v2))) + padding;
+    std::copy(&lo.x, &lo.x + 3, &boxes[id * 6]);
+    std::copy(&hi.x, &hi.x + 3, &boxes[id * 6 + 3]);
+  }
+  return boxes;
 }
 
 bool ray_is_valid(const Ray& ray) {

@@ -71,8 +71,18 @@ struct ClipBox {
   double padding = 0.0;    // kPadding * magnitude
   bool empty = true;
 
+  // Cells narrower than this many float ulps of their own coordinates separate nothing,
+  // and neither do cells only a few paddings wide (DESIGN.md §1, degenerate input).
+  static constexpr double kMinCellUlps = 256.0;
+  static constexpr double kMinCellPaddings = 4.0;
+
   ClipBox() = default;
   explicit ClipBox(const Box& scene);
+  // The narrowest useful cell in the box lo..hi.
+  double min_cell_width(const double lo[3], const double hi[3]) const;
+  // Every triangle's box (lo.xyz, hi.xyz; 6 doubles each) padded by `padding`: sorting by
+  // them puts a triangle in every cell where the kernel could report it hit.
+  std::vector<double> padded_boxes(const std::vector<TriangleVerts>& triangles) const;
   // The ray's [tmin, tmax] clipped to the box; false for a ray that misses it or is invalid.
   // `inv_dir` receives 1 / dir per axis (infinite for a zero component), for the caller's
   // walk.

@@ -16,12 +16,6 @@ using Clock = std::chrono::steady_clock;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // Absolute granularities stay exact integers in double (wall = x0 + E * (I / G)).
 constexpr uint64_t kMaxAbsoluteGranularity = uint64_t{1} << 50;
-// Cells narrower than this many float ulps of their own coordinates separate nothing, and
-// neither do cells only a few times wider than the padding of the triangles' boxes
-// (ClipBox::padding, which puts a triangle on or within the kernel's rounding of a wall in
-// both cells): DESIGN.md §1, degenerate input.
-constexpr double kMinCellUlps = 256.0;
-constexpr double kMinCellPaddings = 4.0;
 // Depth cap when --max-depth is not given: far deeper than the cost function goes on real
 // scenes; it bounds degenerate input.
 constexpr int kDefaultMaxDepth = 32;
@@ -211,17 +205,9 @@ void Grid1D::build(const Scene& scene) {
   triangles_ = gather_triangles(scene);
   bounds_ = scene.bounds();
   root_ = ClipBox(bounds_);
-  tri_box_.resize(triangles_.size() * 6);
   std::vector<uint32_t> usable;
+  tri_box_ = root_.padded_boxes(triangles_);
   for (uint32_t id = 0; id < triangles_.size(); ++id) {
-    // Boxes padded by the kernel's possible error (ClipBox): sorting by them puts a
-    // triangle in every cell where the kernel could report it hit.
-    const TriangleVerts& t = triangles_[id];
-    const double pad = root_.padding;
-    const glm::dvec3 lo = glm::dvec3(glm::min(t.v0, glm::min(t.v1, t.v2))) - pad;
-    const glm::dvec3 hi = glm::dvec3(glm::max(t.v0, glm::max(t.v1, t.v2))) + pad;
-    std::copy(&lo.x, &lo.x + 3, &tri_box_[id * 6]);
-    std::copy(&hi.x, &hi.x + 3, &tri_box_[id * 6 + 3]);
     if (scene.is_degenerate(id))
       ++degenerate_;
     else
@@ -601,11 +587,7 @@ VoxelFigures Grid1D::figures_of(uint32_t id, const double lo[3], const double hi
 std::array<int, 3> Grid1D::granularity_limits(uint32_t id, const VoxelFigures& figures,
                                               const double lo[3], const double hi[3]) const {
   const Region& region = regions_[id];
-  double local_magnitude = 0.0;
-  for (int a = 0; a < 3; ++a)
-    local_magnitude = std::max({local_magnitude, std::fabs(lo[a]), std::fabs(hi[a])});
-  const double min_width =
-      std::max(kMinCellUlps * FLT_EPSILON * local_magnitude, kMinCellPaddings * root_.padding);
+  const double min_width = root_.min_cell_width(lo, hi);
   std::array<int, 3> limits{};
   for (int a = 0; a < 3; ++a) {
     const double thin_limit = min_width > 0.0 ? figures.extent[a] / min_width : 0.0;

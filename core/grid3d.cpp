@@ -12,12 +12,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 constexpr double kInf = std::numeric_limits<double>::infinity();
-// As in grid1d: the walk ends when the current cell's exit lies beyond the nearest hit by
-// more than the kernel's error relative to the distances involved.
-// Cells narrower than this many float ulps of their coordinates, or only a few times the
-// triangles' box padding, separate nothing (DESIGN.md §1, degenerate input).
-constexpr double kMinCellUlps = 256.0;
-constexpr double kMinCellPaddings = 4.0;
 // Most cells per side of one grid.
 constexpr int kMaxResolution = 1024;
 // A grid whose cells would hold more than this many references per triangle (thousands
@@ -93,16 +87,9 @@ void NestedGrid::build(const Scene& scene) {
   triangles_ = gather_triangles(scene);
   bounds_ = scene.bounds();
   root_ = ClipBox(bounds_);
-  tri_box_.resize(triangles_.size() * 6);
   std::vector<uint32_t> usable;
+  tri_box_ = root_.padded_boxes(triangles_);
   for (uint32_t id = 0; id < triangles_.size(); ++id) {
-    // Boxes padded by the kernel's possible error (ClipBox): a triangle goes into every
-    // cell where the kernel could report it hit.
-    const TriangleVerts& t = triangles_[id];
-    const glm::dvec3 lo = glm::dvec3(glm::min(t.v0, glm::min(t.v1, t.v2))) - root_.padding;
-    const glm::dvec3 hi = glm::dvec3(glm::max(t.v0, glm::max(t.v1, t.v2))) + root_.padding;
-    std::copy(&lo.x, &lo.x + 3, &tri_box_[size_t(id) * 6]);
-    std::copy(&hi.x, &hi.x + 3, &tri_box_[size_t(id) * 6 + 3]);
     if (!scene.is_degenerate(id)) usable.push_back(id);
   }
   has_root_ = !usable.empty() && !root_.empty;
@@ -277,14 +264,12 @@ bool NestedGrid::subdivide(uint32_t cell_id) const {
 // (min_long_side 2) cannot be had.
 bool NestedGrid::plan_grid(const double lo[3], const double hi[3], const std::vector<uint32_t>& ids,
                            int min_long_side, Plan& plan) const {
-  double extent[3], longest = 0.0, local_magnitude = 0.0;
+  double extent[3], longest = 0.0;
   for (int a = 0; a < 3; ++a) {
     extent[a] = hi[a] - lo[a];
     longest = std::max(longest, extent[a]);
-    local_magnitude = std::max({local_magnitude, std::fabs(lo[a]), std::fabs(hi[a])});
   }
-  const double min_width =
-      std::max(kMinCellUlps * FLT_EPSILON * local_magnitude, kMinCellPaddings * root_.padding);
+  const double min_width = root_.min_cell_width(lo, hi);
   int r =
       std::clamp(int(std::lround(std::cbrt(double(ids.size())))), min_long_side, kMaxResolution);
   for (;;) {

@@ -24,17 +24,10 @@ void Octree::build(const Scene& scene) {
   triangles_ = gather_triangles(scene);
   bounds_ = scene.bounds();
   box_ = ClipBox(bounds_);
-  tri_box_.resize(triangles_.size() * 6);
   std::vector<uint32_t> usable;
   degenerate_ = 0;
+  tri_box_ = box_.padded_boxes(triangles_);
   for (uint32_t id = 0; id < triangles_.size(); ++id) {
-    // Boxes padded by the kernel's possible error (ClipBox, as grid1d): a triangle goes into
-    // every node where the kernel could report it hit.
-    const TriangleVerts& t = triangles_[id];
-    const glm::dvec3 lo = glm::dvec3(glm::min(t.v0, glm::min(t.v1, t.v2))) - box_.padding;
-    const glm::dvec3 hi = glm::dvec3(glm::max(t.v0, glm::max(t.v1, t.v2))) + box_.padding;
-    std::copy(&lo.x, &lo.x + 3, &tri_box_[size_t(id) * 6]);
-    std::copy(&hi.x, &hi.x + 3, &tri_box_[size_t(id) * 6 + 3]);
     if (scene.is_degenerate(id))
       ++degenerate_;
     else

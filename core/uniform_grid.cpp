@@ -9,9 +9,6 @@ namespace gs {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-// Cells only a few times wider than the triangles' box padding (ClipBox::padding) separate
-// nothing (DESIGN.md §1, degenerate input; grid1d's kMinCellPaddings).
-constexpr double kMinCellPaddings = 4.0;
 // Most cells the grid makes whatever --density asks (4 bytes of offsets each).
 constexpr uint64_t kMaxCells = uint64_t{1} << 26;
 
@@ -22,17 +19,10 @@ void UniformGrid::build(const Scene& scene) {
   triangles_ = gather_triangles(scene);
   bounds_ = scene.bounds();
   box_ = ClipBox(bounds_);
-  tri_box_.resize(triangles_.size() * 6);
   std::vector<uint32_t> usable;
   degenerate_ = 0;
+  tri_box_ = box_.padded_boxes(triangles_);
   for (uint32_t id = 0; id < triangles_.size(); ++id) {
-    // Boxes padded by the kernel's possible error (ClipBox, as grid1d): a triangle goes into
-    // every cell where the kernel could report it hit.
-    const TriangleVerts& t = triangles_[id];
-    const glm::dvec3 lo = glm::dvec3(glm::min(t.v0, glm::min(t.v1, t.v2))) - box_.padding;
-    const glm::dvec3 hi = glm::dvec3(glm::max(t.v0, glm::max(t.v1, t.v2))) + box_.padding;
-    std::copy(&lo.x, &lo.x + 3, &tri_box_[size_t(id) * 6]);
-    std::copy(&hi.x, &hi.x + 3, &tri_box_[size_t(id) * 6 + 3]);
     if (scene.is_degenerate(id))
       ++degenerate_;
     else
@@ -66,7 +56,7 @@ void UniformGrid::choose_resolution(size_t triangles) {
   bool thin[3];
   for (int a = 0; a < 3; ++a) {
     extent[a] = box_.hi[a] - box_.lo[a];
-    thin[a] = !(extent[a] > kMinCellPaddings * box_.padding);
+    thin[a] = !(extent[a] > ClipBox::kMinCellPaddings * box_.padding);
   }
   double side = 0.0;
   for (bool changed = true; changed;) {
@@ -82,7 +72,7 @@ void UniformGrid::choose_resolution(size_t triangles) {
   }
   double cells = 1.0;
   for (int a = 0; a < 3; ++a) {
-    const double most = std::floor(extent[a] / (kMinCellPaddings * box_.padding));
+    const double most = std::floor(extent[a] / (ClipBox::kMinCellPaddings * box_.padding));
     const double n = thin[a] ? 1.0 : std::clamp(std::round(extent[a] / side), 1.0, most);
     n_[a] = uint32_t(std::min(n, double(kMaxCells)));
     cells *= n_[a];
