@@ -10,8 +10,10 @@
 #include <optional>
 #include <vector>
 
+#include "app/bench_job.h"
 #include "app/shot.h"
 #include "app/view.h"
+#include "core/calibrate.h"
 #include "core/camera.h"
 #include "core/error.h"
 #include "core/ray_io.h"
@@ -35,28 +37,38 @@ constexpr const char* kUsage = R"(usage: gridscope COMMAND ...
                    [--overlay LIST] [--pixel X,Y] [--ui] [--accel NAME] [STRUCTURE FLAGS]
   gridscope view   [SCENE] [--camera STRING] [--size WxH] [--frames N] [--click X,Y]
                    [--screenshot FILE.png] [--walk-out FILE.json] [--accel NAME]
-                   [STRUCTURE FLAGS]
+                   [--script FILE] [--stats FILE.json] [STRUCTURE FLAGS]
   gridscope export SCENE --out FILE.obj
   gridscope rays   SCENE --out FILE.rays [--size WxH] [--camera STRING]
+  gridscope bench  [--scenes LIST] [--accels LIST] [--out DIR] [--quick] [--seed N]
+                   [--threads N] [--shared DIR] [--from results.json]
+  gridscope calibrate [--out FILE.json] [--quick] [--seed N]
   gridscope help
 
 SCENE is an .obj or .ply file (.gz too) or builtin:NAME (pyramid, lumpy, sphereflake).
 --camera takes "eye=X,Y,Z;target=X,Y,Z;up=X,Y,Z;fov=DEG" (vertical fov in degrees).
 Structure flags (the paper's cost constants and limits):
   --intcost --repcost --travcost --vertcost --subcost X   finite, >= 0
+  --costs FILE.json (the five constants from `calibrate --out`)
   --max-granularity N (1..4096)   --axis alternate|cost   --max-depth N (1..64)
   --sample-every N (>= 1)         --memory-budget BYTES (suffix K, M or G allowed)
   --build-threads N (0 = all; embree's build)
---accel: brute, grid1d, embree (when built with Embree), zero (trace only: the paper's
-  zero-overhead oracle, given --oracle FILE.hits from an earlier trace of the same rays).
+--accel: brute, uniform, octree, grid3d, grid1d, bvh, embree (when built with Embree), zero
+  (the paper's zero-overhead oracle, given --oracle FILE.hits from an earlier run).
 shot draws the viewer's frame headless (OSMesa); --overlay takes any of
   cells, states, walk, heat:steps, heat:tests, heat:built (comma-separated);
   --pixel X,Y picks the walk's pixel (default: the image centre).
 Exit status: 0 success, 1 bad input or failed run, 2 usage error.
 view opens the explorer (default: builtin:lumpy, close-up); --frames N exits after N UI
   frames and the first full-resolution pass, --click X,Y (fractions of the viewport) picks
-  a pixel's walk, --walk-out writes it, --screenshot saves the window.
-Not in this build yet: bench, calibrate.
+  a pixel's walk, --walk-out writes it, --screenshot saves the window, --script FILE runs
+  lines "frame N: resize WxH|open SCENE|set NAME VALUE|close", --stats writes the last
+  frame's figures on exit.
+bench runs the paper's experiment (section 7) over a scene suite (pyramid, lumpy, dragon,
+  bunny-sibenik, f15, dragon-full; --quick: pyramid and lumpy, smaller images) or --scenes
+  (suite names, builtin:NAME or paths) and writes DIR/results.json, report.md and PNG plots;
+  --from makes report.md and the plots again from a results.json without measuring.
+calibrate measures the section 6.2 cost constants on this machine and prints them as flags.
 )";
 
 // A flag and what it does to the job being assembled; `apply` gets "" for a switch.
@@ -137,15 +149,18 @@ Flags structure_flags(AccelParams& p) {
       cost("--travcost", p.travcost),
       cost("--vertcost", p.vertcost),
       cost("--subcost", p.subcost),
+      // The five constants of a `calibrate --out` file; flags after it override them.
+      {"--costs", true,
+       [&p](const std::string& v) { p = with_calibration(p, read_calibration(v)); }},
       {"--max-granularity", true,
        [&p](const std::string& v) {
-         p.max_granularity = parse_int("--max-granularity", v, 1, 4096);
+         p.max_granularity = parse_int("--max-granularity", v, 1, kMaxGranularity);
        }},
       {"--axis", true, [&p](const std::string& v) { p.axis = parse_axis(v); }},
       {"--max-depth", true,
-       [&p](const std::string& v) { p.max_depth = parse_int("--max-depth", v, 1, 64); }},
+       [&p](const std::string& v) { p.max_depth = parse_int("--max-depth", v, 1, kMaxDepth); }},
       {"--leaf-size", true,
-       [&p](const std::string& v) { p.leaf_size = parse_int("--leaf-size", v, 1, 1 << 20); }},
+       [&p](const std::string& v) { p.leaf_size = parse_int("--leaf-size", v, 1, kMaxLeafSize); }},
       {"--density", true,
        [&p](const std::string& v) {
          p.density = parse_cost("--density", v);
@@ -216,7 +231,7 @@ void require(const std::string& command, const char* flag, const std::string& va
   if (value.empty()) throw UsageError(command + " needs " + flag);
 }
 
-int trace_command(std::span<const std::string> words) {
+Command parse_trace(std::span<const std::string> words) {
   TraceJob job;
   Flags flags = structure_flags(job.params);
   flags.insert(flags.end(),
@@ -245,18 +260,26 @@ int trace_command(std::span<const std::string> words) {
   require("trace", "--out FILE", job.out_path);
   if ((job.walk_ray >= 0) != !job.walk_path.empty())
     throw UsageError("trace: --walk I and --walk-out FILE.json go together");
-  run_trace(job);
-  return 0;
+  return {[job] {
+    run_trace(job);
+    return 0;
+  }};
 }
 
-int render_command(std::span<const std::string> words) {
+Command parse_render(std::span<const std::string> words) {
   RenderJob job;
   Flags flags = structure_flags(job.params);
   flags.insert(flags.end(),
                {string_flag("--out", job.out_path),
                 string_flag("--accel", job.accel),
                 string_flag("--stats", job.stats_path),
+                string_flag("--record-hits", job.hits_path),
+                string_flag("--oracle", job.params.oracle_path),
                 threads_flag(job.settings.threads),
+                {"--bounces", true,
+                 [&job](const std::string& v) {
+                   job.settings.bounces = parse_int("--bounces", v, 0, kMaxBounces);
+                 }},
                 {"--size", true, [&job](const std::string& v) { parse_size(v, job.settings); }},
                 {"--camera", true, [&job](const std::string& v) { job.camera = parse_camera(v); }},
                 {"--spp", true, [&job](const std::string& v) {
@@ -264,9 +287,11 @@ int render_command(std::span<const std::string> words) {
                  }}});
   job.scene = scene_argument("render", parse_words("render", words, flags));
   require("render", "--out FILE.png", job.out_path);
-  run_render(job);
-  std::printf("%s\n", job.out_path.c_str());
-  return 0;
+  return {[job] {
+    run_render(job);
+    std::printf("%s\n", job.out_path.c_str());
+    return 0;
+  }};
 }
 
 // X,Y: two integers; whether they lie inside the image is checked once the size is known.
@@ -282,7 +307,7 @@ std::array<int, 2> parse_pixel(const std::string& text) {
           part(comma == std::string::npos ? "" : text.substr(comma + 1))};
 }
 
-int shot_command(std::span<const std::string> words) {
+Command parse_shot(std::span<const std::string> words) {
   ShotJob job;
   Flags flags = structure_flags(job.params);
   flags.insert(
@@ -293,17 +318,23 @@ int shot_command(std::span<const std::string> words) {
        {"--camera", true, [&job](const std::string& v) { job.camera = parse_camera(v); }},
        {"--spp", true,
         [&job](const std::string& v) { job.settings.spp = parse_int("--spp", v, 1, kMaxSpp); }},
+       {"--bounces", true,
+        [&job](const std::string& v) {
+          job.settings.bounces = parse_int("--bounces", v, 0, kMaxBounces);
+        }},
        {"--overlay", true, [&job](const std::string& v) { job.overlays = parse_overlays(v); }},
        {"--pixel", true, [&job](const std::string& v) { job.pixel = parse_pixel(v); }},
        {"--ui", false, [&job](const std::string&) { job.ui = true; }}});
   job.scene = scene_argument("shot", parse_words("shot", words, flags));
   require("shot", "--out FILE.png", job.out_path);
-  run_shot(job);
-  std::printf("%s\n", job.out_path.c_str());
-  return 0;
+  return {[job] {
+    run_shot(job);
+    std::printf("%s\n", job.out_path.c_str());
+    return 0;
+  }};
 }
 
-int view_command(std::span<const std::string> words) {
+Command parse_view(std::span<const std::string> words) {
   ViewJob job;
   RenderSettings size;
   size.width = job.width, size.height = job.height;
@@ -313,6 +344,8 @@ int view_command(std::span<const std::string> words) {
       {string_flag("--accel", job.accel),
        string_flag("--screenshot", job.screenshot),
        string_flag("--walk-out", job.walk_out),
+       string_flag("--script", job.script),
+       string_flag("--stats", job.stats),
        {"--size", true, [&size](const std::string& v) { parse_size(v, size); }},
        {"--camera", true, [&job](const std::string& v) { job.camera = parse_camera(v); }},
        {"--frames", true,
@@ -325,22 +358,26 @@ int view_command(std::span<const std::string> words) {
                      std::to_string(positionals.size()));
   if (!positionals.empty()) job.scene = positionals[0];
   job.width = size.width, job.height = size.height;
-  run_view(job);
-  return 0;
+  return {[job] {
+    run_view(job);
+    return 0;
+  }};
 }
 
-int export_command(std::span<const std::string> words) {
+Command parse_export(std::span<const std::string> words) {
   std::string out;
   const Flags flags = {string_flag("--out", out)};
   const std::string scene = scene_argument("export", parse_words("export", words, flags));
   require("export", "--out FILE.obj", out);
-  export_obj(load_scene(scene), out);
-  return 0;
+  return {[scene, out] {
+    export_obj(load_scene(scene), out);
+    return 0;
+  }};
 }
 
 // The primary rays `render --spp 1` shoots (pixel centres, rows from the top-left pixel),
 // as a ray file for `trace`: so a trace can be checked against, or timed like, a render.
-int rays_command(std::span<const std::string> words) {
+Command parse_rays(std::span<const std::string> words) {
   std::string out;
   RenderSettings settings;
   std::optional<Camera> camera;
@@ -350,15 +387,78 @@ int rays_command(std::span<const std::string> words) {
       {"--camera", true, [&camera](const std::string& v) { camera = parse_camera(v); }}};
   const std::string scene = scene_argument("rays", parse_words("rays", words, flags));
   require("rays", "--out FILE.rays", out);
-  const Box box = load_scene(scene).bounds();
-  const Camera view = camera ? *camera : frame_box(box, float(settings.width) / settings.height);
-  std::vector<Ray> rays;
-  rays.reserve(size_t(settings.width) * size_t(settings.height));
-  for (int y = 0; y < settings.height; ++y)
-    for (int x = 0; x < settings.width; ++x)
-      rays.push_back(view.primary_ray(x, y, settings.width, settings.height));
-  write_rays(out, rays);
-  return 0;
+  return {[scene, out, settings, camera] {
+    const Box box = load_scene(scene).bounds();
+    const Camera view = camera ? *camera : frame_box(box, float(settings.width) / settings.height);
+    std::vector<Ray> rays;
+    rays.reserve(size_t(settings.width) * size_t(settings.height));
+    for (int y = 0; y < settings.height; ++y)
+      for (int x = 0; x < settings.width; ++x)
+        rays.push_back(view.primary_ray(x, y, settings.width, settings.height));
+    write_rays(out, rays);
+    return 0;
+  }};
+}
+
+// A comma-separated list of non-empty words.
+std::vector<std::string> parse_list(const std::string& flag, const std::string& text) {
+  std::vector<std::string> words;
+  size_t start = 0;
+  while (true) {
+    const size_t comma = text.find(',', start);
+    words.push_back(text.substr(start, comma - start));
+    if (words.back().empty()) bad_value(flag, text, "a comma-separated list of names");
+    if (comma == std::string::npos) return words;
+    start = comma + 1;
+  }
+}
+
+void no_positionals(const std::string& command, const std::vector<std::string>& positionals) {
+  if (!positionals.empty())
+    throw UsageError(command + " takes no SCENE argument (got '" + positionals[0] + "')");
+}
+
+Command parse_bench(std::span<const std::string> words) {
+  BenchJob job;
+  BenchOptions& options = job.options;
+  const Flags flags = {
+      {"--scenes", true, [&](const std::string& v) { options.scenes = parse_list("--scenes", v); }},
+      {"--accels", true, [&](const std::string& v) { options.accels = parse_list("--accels", v); }},
+      string_flag("--out", job.out_dir),
+      string_flag("--shared", options.shared_dir),
+      string_flag("--from", job.from_path),
+      {"--quick", false, [&](const std::string&) { options.quick = true; }},
+      {"--seed", true,
+       [&](const std::string& v) { options.seed = uint64_t(parse_int("--seed", v, 0, INT32_MAX)); }},
+      {"--threads", true,
+       [&](const std::string& v) { options.threads = parse_int("--threads", v, 1, kMaxThreads); }}};
+  no_positionals("bench", parse_words("bench", words, flags));
+  check_bench_options(options);
+  return {[job] {
+    run_bench_job(job);
+    return 0;
+  }};
+}
+
+// Prints the calibration (and writes it with --out) with the flags that apply it.
+Command parse_calibrate(std::span<const std::string> words) {
+  std::string out;
+  CalibrateOptions options;
+  const Flags flags = {
+      string_flag("--out", out),
+      {"--quick", false,
+       [&](const std::string&) { options.budget_seconds = CalibrateOptions::kQuickBudget; }},
+      {"--seed", true,
+       [&](const std::string& v) { options.seed = uint64_t(parse_int("--seed", v, 0, INT32_MAX)); }}};
+  no_positionals("calibrate", parse_words("calibrate", words, flags));
+  return {[out, options] {
+    const Calibration calibration = calibrate(options);
+    if (!out.empty()) write_json(out, to_json(calibration));
+    std::printf("--intcost %.6g --repcost %.6g --travcost %.6g --vertcost %.6g --subcost %.6g\n",
+                calibration.intcost, calibration.repcost, calibration.travcost,
+                calibration.vertcost, calibration.subcost);
+    return 0;
+  }};
 }
 
 bool asks_for_help(std::span<const std::string> args) {
@@ -368,23 +468,35 @@ bool asks_for_help(std::span<const std::string> args) {
 
 }  // namespace
 
-int run_cli(std::span<const std::string> args) {
+Command parse_cli(std::span<const std::string> args) {
   if (args.empty()) throw UsageError("no command given (try 'gridscope help')");
   if (asks_for_help(args)) {
-    std::fputs(kUsage, stdout);
-    return 0;
+    return {[] {
+      std::fputs(kUsage, stdout);
+      return 0;
+    }};
   }
   const std::string& command = args[0];
   const auto rest = args.subspan(1);
-  if (command == "trace") return trace_command(rest);
-  if (command == "render") return render_command(rest);
-  if (command == "shot") return shot_command(rest);
-  if (command == "export") return export_command(rest);
-  if (command == "rays") return rays_command(rest);
-  if (command == "view") return view_command(rest);
-  if (command == "bench" || command == "calibrate")
-    throw UsageError("'" + command + "' is not available in this build yet");
+  if (command == "trace") return parse_trace(rest);
+  if (command == "render") return parse_render(rest);
+  if (command == "shot") return parse_shot(rest);
+  if (command == "export") return parse_export(rest);
+  if (command == "rays") return parse_rays(rest);
+  if (command == "view") return parse_view(rest);
+  if (command == "bench") return parse_bench(rest);
+  if (command == "calibrate") return parse_calibrate(rest);
   throw UsageError("unknown command '" + command + "'");
+}
+
+int run_cli(std::span<const std::string> args) { return parse_cli(args).run(); }
+
+void apply_structure_flag(AccelParams& params, const std::string& flag, const std::string& value) {
+  const Flags flags = structure_flags(params);
+  const auto found =
+      std::find_if(flags.begin(), flags.end(), [&](const Flag& f) { return f.name == flag; });
+  if (found == flags.end()) throw UsageError("unknown structure flag '" + flag + "'");
+  found->apply(value);
 }
 
 }  // namespace gs::app

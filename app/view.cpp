@@ -15,7 +15,9 @@
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
+#include "app/cli.h"
 #include "app/gl/frame.h"
 #include "app/gl/imgui_renderer.h"
 #include "app/gl/window.h"
@@ -25,6 +27,7 @@
 #include "core/grid1d.h"
 #include "core/overlay.h"
 #include "core/progressive.h"
+#include "core/ray_io.h"
 #include "core/render.h"
 #include "core/trace_run.h"
 
@@ -38,11 +41,15 @@ constexpr const char* kCloseUp = "eye=3.2,-4.2,2.2;target=0,0,0.35;up=0,0,1;fov=
 // Panels take a share of the window within these bounds; the viewport gets the rest.
 constexpr float kPanelShare = 0.3f, kPanelMin = 300.0f, kPanelMax = 420.0f;  // on the right
 constexpr float kBottomShare = 0.3f, kBottomMin = 180.0f, kBottomMax = 300.0f;
-constexpr float kMinViewport = 16.0f;     // the viewport never shrinks below this
+constexpr float kMinViewport = 16.0f;  // the viewport never shrinks below this
+// ... nor grows beyond this many pixels a side, whatever the window: the renderer and the UI
+// hold about 90 bytes per pixel in flight (images, per-pixel records, sums), 1.5 GB here.
+constexpr int kMaxViewportSide = 4096;
 constexpr double kOverlayInterval = 0.3;  // seconds between overlay refreshes while building
 constexpr float kOrbitSpeed = 0.006f;     // radians per pixel dragged
 constexpr float kDollyStep = 0.9f;        // distance kept per wheel notch
 constexpr float kFlySpeed = 0.8f;         // eye-to-target distances per second
+constexpr double kIdleWait = 0.05;        // seconds a minimised window sleeps per frame
 
 // A scripted click is followed by this many frames before exiting, so that tables that
 // size themselves from their content have measured it when the screenshot is taken.
@@ -51,6 +58,7 @@ constexpr int kFramesAfterClick = 2;
 using Clock = std::chrono::steady_clock;
 
 const char* const kHeatNames[] = {"none", "steps", "tests", "built"};
+const ImVec4 kWarning(1.0f, 0.4f, 0.4f, 1.0f);  // errors and figures that need attention
 
 struct Rect {
   float x = 0, y = 0, w = kMinViewport, h = kMinViewport;
@@ -149,45 +157,82 @@ void copy_text(char* buffer, size_t size, const std::string& text) {
   std::snprintf(buffer, size, "%s", text.c_str());
 }
 
+// A byte count as --memory-budget takes it back: the largest suffix that divides it.
+std::string byte_text(uint64_t bytes) {
+  constexpr std::pair<int, const char*> kSuffixes[] = {{30, "G"}, {20, "M"}, {10, "K"}};
+  for (const auto& [shift, suffix] : kSuffixes)
+    if (bytes > 0 && bytes % (uint64_t{1} << shift) == 0)
+      return std::to_string(bytes >> shift) + suffix;
+  return std::to_string(bytes);
+}
+
+nlohmann::json optional_json(const std::optional<uint64_t>& value) {
+  return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
+}
+
 class Viewer {
  public:
-  Viewer(const ViewJob& job, std::shared_ptr<const Scene> scene)
-      : job_(job), window_(job.width, job.height, "gridscope view"), scene_(std::move(scene)) {
+  Viewer(const ViewJob& job, std::shared_ptr<const Scene> scene, std::vector<ScriptStep> steps)
+      : job_(job),
+        window_(job.width, job.height, "gridscope view"),
+        scene_(std::move(scene)),
+        steps_(std::move(steps)) {
     setup_.scene = scene_;
     setup_.accel = job.accel;
     setup_.params = job.params;
     setup_.max_spp = 256;
     edit_params_ = job.params;
+    copy_text(budget_text_, sizeof budget_text_, byte_text(job.params.memory_budget));
     const std::vector<std::string> names = accelerator_names();
     edit_accel_ = int(std::find(names.begin(), names.end(), job.accel) - names.begin());
     copy_text(scene_path_, sizeof scene_path_, scene_->name);
     show_cells_ = job.overlays.cells, show_states_ = job.overlays.states;
     show_walk_ = job.overlays.walk, heat_ = job.overlays.heat;
-    if (job.frames > 0) glfwSwapInterval(0);  // scripts need no vsync
+    if (job.frames > 0 || !steps_.empty()) glfwSwapInterval(0);  // scripts need no vsync
+    // The viewport is a texture and a depth renderbuffer: no larger than GL allows either.
+    GLint texture = 0, renderbuffer = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &texture);
+    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &renderbuffer);
+    max_viewport_side_ = std::min({kMaxViewportSide, int(texture), int(renderbuffer)});
   }
 
+  // One frame per turn. A minimised window draws nothing (no 0x0 viewport, texture or
+  // render) but still counts frames, runs script steps and takes loads and passes.
   void run() {
     while (!window_.should_close()) {
-      window_.begin_frame();
-      ImGui::NewFrame();
-      step();
-      ImGui::Render();
-      draw();
-      ++frames_drawn_;
+      window_.poll_events();
+      run_steps();
+      take_loaded_scene();
+      update_frame();
+      const bool drawn = !window_.minimised();
+      if (drawn)
+        draw_frame();
+      else
+        window_.wait_events(kIdleWait);
+      ++frames_done_;
       if (script_done()) {
         if (!job_.screenshot.empty()) screenshot();
-        return;
+        break;
       }
-      window_.swap();
+      if (drawn) window_.swap();
     }
+    window_.hide();  // gone at once, while the workers finish their rows
+    if (!job_.stats.empty()) write_stats();
   }
 
  private:
   // --- one UI frame ----------------------------------------------------------------
+  void draw_frame() {
+    window_.begin_frame();
+    ImGui::NewFrame();
+    step();
+    ImGui::Render();
+    draw();
+  }
+
   void step() {
     layout();
-    update_frame();
-    if (job_.frames > 0) run_script();
+    if (job_.frames > 0) run_click();
     handle_mouse();
     handle_keys();
     refresh_overlays(false);
@@ -204,13 +249,14 @@ class Viewer {
     view_.x = view_.y = 0;
     const float panel = std::clamp(io.DisplaySize.x * kPanelShare, kPanelMin, kPanelMax);
     const float bottom = std::clamp(io.DisplaySize.y * kBottomShare, kBottomMin, kBottomMax);
-    view_.w = std::max(io.DisplaySize.x - panel, kMinViewport);
-    view_.h = std::max(io.DisplaySize.y - bottom, kMinViewport);
+    const float largest = float(max_viewport_side_) / scale_;
+    view_.w = std::clamp(io.DisplaySize.x - panel, kMinViewport, largest);
+    view_.h = std::clamp(io.DisplaySize.y - bottom, kMinViewport, largest);
     const int width = int(view_.w * scale_), height = int(view_.h * scale_);
     if (width == setup_.width && height == setup_.height) return;
     setup_.width = width, setup_.height = height;
-    if (!start_camera_) start_camera_ = initial_camera();
-    if (restarts_ == 0) {
+    if (!start_camera_) {
+      start_camera_ = initial_camera();
       setup_.camera = *start_camera_;
       pivot_ = setup_.camera.target;
       copy_text(camera_text_, sizeof camera_text_, to_string(setup_.camera));
@@ -225,6 +271,7 @@ class Viewer {
   }
 
   void restart() {
+    if (setup_.width == 0) return;  // not laid out yet: layout() starts the first pass
     renderer_.restart(setup_);
     ++restarts_;
     cameras_[restarts_] = setup_.camera;
@@ -254,7 +301,6 @@ class Viewer {
     const auto camera = cameras_.find(frame_.generation);
     frame_camera_ = camera != cameras_.end() ? camera->second : setup_.camera;
     if (frame_.generation == restarts_ && frame_.pass >= 2) full_pass_current_ = true;
-    first_pass_done_ = first_pass_done_ || full_pass_current_;
     distances_.clear();
     if (frame_.pixels.size() == size_t(frame_.width) * size_t(frame_.height))
       for (const PixelRecord& p : frame_.pixels) distances_.push_back(p.depth);
@@ -263,21 +309,60 @@ class Viewer {
       throw InputError("view: rendering failed: " + frame_.error);
   }
 
-  // --- script mode (--frames, --click, --walk-out, --screenshot) ---------------------
-  void run_script() {
+  // --- script mode (--frames, --click, --walk-out, --screenshot, --script, --stats) -------
+  // The steps due by this frame, in order.
+  void run_steps() {
+    while (next_step_ < steps_.size() && steps_[next_step_].frame <= frames_done_ + 1)
+      run_step(steps_[next_step_++]);
+  }
+
+  void run_step(const ScriptStep& step) {
+    switch (step.action) {
+      case ScriptStep::Action::resize:
+        window_.resize(step.size[0], step.size[1]);
+        break;
+      case ScriptStep::Action::open:
+        open_scene(step.name);
+        break;
+      case ScriptStep::Action::set:
+        set_parameter(step.name, step.value);
+        break;
+      case ScriptStep::Action::close:
+        window_.close();
+        break;
+    }
+  }
+
+  // A checked step (parse_script): the edit fields take the value, then Apply.
+  void set_parameter(const std::string& name, const std::string& value) {
+    if (name == "accel") {
+      const std::vector<std::string> names = accelerator_names();
+      edit_accel_ = int(std::find(names.begin(), names.end(), value) - names.begin());
+    } else {
+      apply_structure_flag(edit_params_, "--" + name, value);
+      copy_text(budget_text_, sizeof budget_text_, byte_text(edit_params_.memory_budget));
+    }
+    apply_structure();
+  }
+
+  void run_click() {
     if (!job_.click || click_done_ || !full_pass_current_) return;
     const auto [fx, fy] = *job_.click;
     const int x = std::min(int(fx * setup_.width), setup_.width - 1);
     const int y = std::min(int(fy * setup_.height), setup_.height - 1);
     pick(x, y);
     click_done_ = true;
-    click_frame_ = frames_drawn_;
+    click_frame_ = frames_done_;
     if (!job_.walk_out.empty()) write_walk();
   }
 
+  // Every step run, no load pending, and the current view's full-resolution pass shown (or
+  // no view at all: minimised since the first frame).
   bool script_done() const {
-    return job_.frames > 0 && frames_drawn_ >= job_.frames && first_pass_done_ &&
-           (!job_.click || (click_done_ && frames_drawn_ > click_frame_ + kFramesAfterClick));
+    return job_.frames > 0 && frames_done_ >= job_.frames &&
+           (full_pass_current_ || restarts_ == 0) && next_step_ == steps_.size() &&
+           !loader_.pending() &&
+           (!job_.click || (click_done_ && frames_done_ > click_frame_ + kFramesAfterClick));
   }
 
   void write_walk() const {
@@ -296,12 +381,50 @@ class Viewer {
   }
 
   void screenshot() const {
+    if (window_.minimised()) throw InputError(job_.screenshot + ": the window is minimised");
     const glm::ivec2 size = window_.framebuffer_size();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glReadBuffer(GL_BACK);
     std::vector<uint8_t> rgba = gl::read_pixels(size.x, size.y);  // rows flipped to the top
     for (size_t i = 3; i < rgba.size(); i += 4) rgba[i] = 255;    // the window is opaque
     write_png(job_.screenshot, size.x, size.y, rgba);
+  }
+
+  // The shown frame's figures (render --stats's names where they mean the same), the view
+  // it shows, and the last status line.
+  void write_stats() const {
+    const StructureStats& s = frame_.structure;
+    const nlohmann::json stats = {
+        {"scene", scene_->name},
+        {"accel", setup_.accel},
+        {"parameters", setup_.params.to_json()},
+        {"triangles", scene_->triangle_count()},
+        {"view",
+         {{"width", frame_.width},
+          {"height", frame_.height},
+          {"camera", to_string(frame_camera_)},
+          {"pass", frame_.pass},
+          {"spp", frame_.spp},
+          {"current", frame_.generation == restarts_ && frame_.pass > 0}}},
+        {"rays", frame_.rays},
+        {"rays_per_second", frame_.rays_per_second},
+        {"build_seconds", s.build_seconds},
+        {"nodes", optional_json(s.nodes)},
+        {"voxels_subdivided", optional_json(s.voxels_subdivided)},
+        {"leaves", optional_json(s.leaves)},
+        {"traversal_states", optional_json(s.traversal_states)},
+        {"memory_bytes", s.memory_bytes},
+        {"voxels_over_budget", s.voxels_over_budget},
+        {"error", frame_.error},
+        {"status", status_}};
+    write_json(job_.stats, stats);
+  }
+
+  // The panel's status line; also on stderr, so that logs and scripts see it.
+  void set_status(const std::string& text) {
+    if (!text.empty() && text != status_)
+      std::fprintf(stderr, "gridscope view: %s\n", text.c_str());
+    status_ = text;
   }
 
   // --- picking and camera --------------------------------------------------------------
@@ -312,14 +435,22 @@ class Viewer {
     return {x, y};
   }
 
+  // record_walk waits for the structure: refused while it is built, so the UI never freezes.
+  bool structure_ready() {
+    if (renderer_.structure_ready()) return true;
+    set_status("the structure is still being built: try again in a moment");
+    return false;
+  }
+
   // A click: that pixel's walk, by the traversal that renders, shown and inspected.
   void pick(int x, int y) {
+    if (!structure_ready()) return;
     walk_ = renderer_.record_walk(x, y);
     walk_pixel_ = {x, y};
     walk_size_ = {setup_.width, setup_.height};
     walk_camera_ = setup_.camera;
     walk_cell_ = 0;
-    status_ = walk_ ? "" : "no walk: the structure has no cells";
+    set_status(walk_ ? "" : "no walk: the structure has no cells");
     if (walk_) show_walk_ = true;
     walk_changed();
     overlays_dirty_ = true;  // the walk may have built voxels
@@ -332,9 +463,10 @@ class Viewer {
 
   // Double-click: the pivot (and target) moves to the surface under the cursor.
   void set_pivot_at(int x, int y) {
+    if (!structure_ready()) return;
     const std::optional<Walk> walk = renderer_.record_walk(x, y);
     if (!walk || !walk->hit.found()) {
-      status_ = walk ? "pivot: nothing under the cursor" : "pivot: needs a structure with cells";
+      set_status(walk ? "pivot: nothing under the cursor" : "pivot: needs a structure with cells");
       return;
     }
     const glm::vec3 point = walk->ray.origin + walk->hit.t * walk->ray.dir;
@@ -527,12 +659,27 @@ class Viewer {
     ImGui::SameLine();
     ImGui::RadioButton("axis by cost", &axis, int(AxisRule::cost));
     edit_params_.axis = AxisRule(axis);
-    if (ImGui::Button("Apply (rebuild)")) {
-      if (edit_accel_ >= 0 && edit_accel_ < int(names.size()))
-        setup_.accel = names[size_t(edit_accel_)];
-      setup_.params = edit_params_;
-      restart_structure();
+    ImGui::InputText("memory budget", budget_text_, sizeof budget_text_);
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip(
+          "bytes of structure, suffix K, M or G; a voxel that would exceed it "
+          "stays a leaf");
+    if (ImGui::Button("Apply (rebuild)")) apply_structure();
+  }
+
+  // The edited structure and parameters replace the current ones: a new structure.
+  void apply_structure() {
+    try {
+      apply_structure_flag(edit_params_, "--memory-budget", budget_text_);
+    } catch (const UsageError& e) {
+      set_status(e.what());
+      return;
     }
+    const std::vector<std::string> names = accelerator_names();
+    if (edit_accel_ >= 0 && edit_accel_ < int(names.size()))
+      setup_.accel = names[size_t(edit_accel_)];
+    setup_.params = edit_params_;
+    restart_structure();
   }
 
   void overlay_controls() {
@@ -606,9 +753,9 @@ class Viewer {
         const Camera camera = parse_camera(camera_text_);
         pivot_ = camera.target;
         move_camera(camera);
-        status_.clear();
+        set_status("");
       } catch (const UsageError& e) {
-        status_ = std::string("camera: ") + e.what();
+        set_status(std::string("camera: ") + e.what());
       }
     }
     ImGui::Checkbox("fly (W/A/S/D)", &fly_);
@@ -619,19 +766,36 @@ class Viewer {
   void scene_controls() {
     ImGui::InputText("##scene", scene_path_, sizeof scene_path_);
     ImGui::SameLine();
-    if (!ImGui::Button("Open")) return;
-    try {
-      scene_ = std::make_shared<const Scene>(load_scene(scene_path_));
-      setup_.scene = scene_;
-      start_camera_ = frame_box(scene_->bounds(), float(setup_.width) / setup_.height);
-      pivot_ = start_camera_->target;
-      setup_.camera = *start_camera_;
-      copy_text(camera_text_, sizeof camera_text_, to_string(setup_.camera));
-      restart_structure();
-      status_.clear();
-    } catch (const InputError& e) {
-      status_ = e.what();  // a bad file is reported here; the viewer keeps running
+    if (ImGui::Button("Open")) open_scene(scene_path_);
+    if (const std::optional<std::string> loading = loader_.pending())
+      ImGui::TextWrapped("loading %s...", loading->c_str());
+  }
+
+  // Loads on the loader's thread: a huge file does not freeze the window, and a newer open
+  // supersedes this one.
+  void open_scene(const std::string& spec) {
+    copy_text(scene_path_, sizeof scene_path_, spec);
+    loader_.load(spec);
+  }
+
+  // A finished load: the new scene framed, or its error in the status line while the
+  // previous scene stays. Framing needs the viewport's aspect: taken once laid out.
+  void take_loaded_scene() {
+    if (setup_.width == 0) return;
+    std::optional<SceneLoader::Result> loaded = loader_.take();
+    if (!loaded) return;
+    if (!loaded->scene) {
+      set_status(loaded->error);  // the previous scene stays
+      return;
     }
+    scene_ = std::move(loaded->scene);
+    setup_.scene = scene_;
+    start_camera_ = frame_box(scene_->bounds(), float(setup_.width) / float(setup_.height));
+    pivot_ = start_camera_->target;
+    setup_.camera = *start_camera_;
+    copy_text(camera_text_, sizeof camera_text_, to_string(setup_.camera));
+    restart_structure();
+    set_status("");
   }
 
   void bottom_panel() {
@@ -660,14 +824,18 @@ class Viewer {
     ImGui::Text("%s, %zu triangles, pass %d, %d spp, %.3g rays/s, %llu rays", setup_.accel.c_str(),
                 scene_->triangle_count(), frame_.pass, frame_.spp, frame_.rays_per_second,
                 (unsigned long long)frame_.rays);
-    ImGui::Text("nodes %s  subdivided %s  leaves %s  states %s  memory %.1f MB",
+    ImGui::Text("nodes %s  subdivided %s  leaves %s  states %s  memory %.1f MB (budget %s)",
                 optional_figure(s.nodes).c_str(), optional_figure(s.voxels_subdivided).c_str(),
                 optional_figure(s.leaves).c_str(), optional_figure(s.traversal_states).c_str(),
-                double(s.memory_bytes) / 1e6);
+                double(s.memory_bytes) / 1e6, byte_text(setup_.params.memory_budget).c_str());
+    if (s.voxels_over_budget > 0)
+      ImGui::TextColored(kWarning, "%llu voxels over budget: left as leaves (raise the budget)",
+                         (unsigned long long)s.voxels_over_budget);
+    else
+      ImGui::TextDisabled("voxels over budget: 0");
     ImGui::Text("overlays show %zu nodes built (refreshed every %.1f s while it grows)",
                 nodes_built_, kOverlayInterval);
-    if (!frame_.error.empty())
-      ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", frame_.error.c_str());
+    if (!frame_.error.empty()) ImGui::TextColored(kWarning, "%s", frame_.error.c_str());
     for (const LineSet& set : structure_lines_)
       for (size_t i = 0; i < std::min<size_t>(set.legend.size(), 8); ++i) {
         const glm::vec4 c = set.legend[i].color;
@@ -814,6 +982,9 @@ class Viewer {
   Target target_;
   std::shared_ptr<const Scene> scene_;
   ProgressiveRenderer renderer_;  // its destructor stops the workers
+  SceneLoader loader_;            // its destructor waits for a load in progress
+  std::vector<ScriptStep> steps_;
+  size_t next_step_ = 0;
 
   ViewSetup setup_;
   uint64_t restarts_ = 0;
@@ -825,6 +996,7 @@ class Viewer {
   std::vector<float> distances_;
   Rect view_;
   float scale_ = 1.0f;
+  int max_viewport_side_ = kMaxViewportSide;
 
   // Editing copies: applied on "Apply".
   int edit_accel_ = 0;
@@ -856,11 +1028,77 @@ class Viewer {
   bool drag_active_ = false, drag_moved_ = false, skip_release_ = false, fly_ = false;
   char camera_text_[512] = {};
   char scene_path_[1024] = {};
+  char budget_text_[32] = {};
   std::string status_;
 
-  int frames_drawn_ = 0, click_frame_ = 0;
-  bool full_pass_current_ = false, first_pass_done_ = false, click_done_ = false;
+  int frames_done_ = 0, click_frame_ = 0;
+  bool full_pass_current_ = false, click_done_ = false;
 };
+
+// `text` without leading and trailing blanks (a Windows line end among them).
+std::string trimmed(const std::string& text) {
+  const size_t first = text.find_first_not_of(" \t\r");
+  if (first == std::string::npos) return "";
+  return text.substr(first, text.find_last_not_of(" \t\r") - first + 1);
+}
+
+// The blank-separated words of a script line's part.
+std::vector<std::string> split_words(const std::string& text) {
+  std::vector<std::string> words;
+  std::istringstream in(text);
+  for (std::string word; in >> word;) words.push_back(word);
+  return words;
+}
+
+// An integer that is the whole word.
+std::optional<int> whole_int(const std::string& word) {
+  int value = 0;
+  const auto [end, error] = std::from_chars(word.data(), word.data() + word.size(), value);
+  if (error != std::errc() || end != word.data() + word.size()) return std::nullopt;
+  return value;
+}
+
+// WxH for `resize`: 0x0 (minimised) or each side 1..kMaxImageSide.
+std::optional<std::array<int, 2>> window_size(const std::string& word) {
+  const size_t x = word.find('x');
+  if (x == std::string::npos) return std::nullopt;
+  const std::optional<int> w = whole_int(word.substr(0, x)), h = whole_int(word.substr(x + 1));
+  if (!w || !h || (*w == 0) != (*h == 0) || *w < 0 || *h < 0 || *w > kMaxImageSide ||
+      *h > kMaxImageSide)
+    return std::nullopt;
+  return std::array<int, 2>{*w, *h};
+}
+
+// One step from "ACTION ARGS" (trimmed); throws UsageError describing what is wrong.
+ScriptStep parse_action(const std::string& action) {
+  const std::vector<std::string> words = split_words(action);
+  ScriptStep step;
+  const std::string verb = words.empty() ? "" : words[0];
+  if (verb == "resize" && words.size() == 2) {
+    const std::optional<std::array<int, 2>> size = window_size(words[1]);
+    if (!size)
+      throw UsageError("resize '" + words[1] + "': expected WxH, 0x0 or sides 1.." +
+                       std::to_string(kMaxImageSide));
+    step.action = ScriptStep::Action::resize, step.size = *size;
+  } else if (verb == "open" && words.size() >= 2) {
+    step.action = ScriptStep::Action::open;
+    step.name = trimmed(action.substr(verb.size()));  // a path may hold blanks
+  } else if (verb == "set" && words.size() == 3) {
+    step.action = ScriptStep::Action::set, step.name = words[1], step.value = words[2];
+    const std::vector<std::string> names = accelerator_names();
+    if (step.name != "accel") {
+      AccelParams checked;  // the value is checked as the command line checks it
+      apply_structure_flag(checked, "--" + step.name, step.value);
+    } else if (std::find(names.begin(), names.end(), step.value) == names.end()) {
+      throw UsageError("set accel '" + step.value + "': unknown structure");
+    }
+  } else if (verb == "close" && words.size() == 1) {
+    step.action = ScriptStep::Action::close;
+  } else {
+    throw UsageError("'" + action + "': expected resize WxH, open SCENE, set NAME VALUE or close");
+  }
+  return step;
+}
 
 void check_view_usage(const ViewJob& job) {
   make_accelerator(job.accel, job.params);  // UsageError for an unknown structure
@@ -885,12 +1123,44 @@ std::array<double, 2> parse_click(const std::string& text) {
           part(comma == std::string::npos ? "" : text.substr(comma + 1))};
 }
 
+std::vector<ScriptStep> parse_script(const std::string& text, const std::string& path) {
+  std::vector<ScriptStep> steps;
+  std::istringstream lines(text);
+  int number = 0;
+  for (std::string line; std::getline(lines, line);) {
+    ++number;
+    line = trimmed(line);
+    if (line.empty() || line[0] == '#') continue;
+    const std::string where = path + ":" + std::to_string(number) + ": ";
+    const size_t colon = line.find(':');
+    const std::vector<std::string> head =
+        split_words(colon == std::string::npos ? "" : line.substr(0, colon));
+    const std::optional<int> frame = head.size() == 2 ? whole_int(head[1]) : std::nullopt;
+    if (head.size() != 2 || head[0] != "frame" || !frame || *frame < 1)
+      throw InputError(where + "expected 'frame N: ACTION' with N >= 1");
+    try {
+      steps.push_back(parse_action(trimmed(line.substr(colon + 1))));
+    } catch (const UsageError& e) {
+      throw InputError(where + e.what());
+    }
+    steps.back().frame = *frame;
+  }
+  std::stable_sort(steps.begin(), steps.end(),
+                   [](const ScriptStep& a, const ScriptStep& b) { return a.frame < b.frame; });
+  return steps;
+}
+
 void run_view(const ViewJob& job) {
   check_view_usage(job);
+  std::vector<ScriptStep> steps;
+  if (!job.script.empty()) {
+    const std::vector<char> text = read_file(job.script);
+    steps = parse_script(std::string(text.begin(), text.end()), job.script);
+  }
   // The scene is read before the window opens, so a bad file is one line and exit 1.
   auto scene =
       std::make_shared<const Scene>(load_scene(job.scene.empty() ? kDefaultScene : job.scene));
-  Viewer viewer(job, std::move(scene));
+  Viewer viewer(job, std::move(scene), std::move(steps));
   viewer.run();
 }
 

@@ -1,5 +1,9 @@
 #include "core/accelerator.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
 #include <nlohmann/json.hpp>
 
 #include "core/brute.h"
@@ -8,6 +12,7 @@
 #include "core/grid1d.h"
 #include "core/grid3d.h"
 #include "core/octree.h"
+#include "core/trace_run.h"
 #include "core/uniform_grid.h"
 #include "core/zero_overhead.h"
 #if GRIDSCOPE_HAVE_EMBREE
@@ -15,6 +20,55 @@
 #endif
 
 namespace gs {
+namespace {
+
+// Worded as the CLI words a value out of range: "--flag VALUE: expected RANGE".
+[[noreturn]] void out_of_range(const std::string& flag, const std::string& value,
+                               const std::string& expected) {
+  throw UsageError(flag + " " + value + ": expected " + expected);
+}
+
+void check_int(const std::string& flag, long long value, long long lo, long long hi,
+               const std::string& context = "") {
+  if (value < lo || value > hi)
+    out_of_range(flag, std::to_string(value),
+                 "an integer in " + std::to_string(lo) + ".." + std::to_string(hi) + context);
+}
+
+void check_non_negative(const std::string& flag, double value) {
+  if (std::isfinite(value) && value >= 0.0) return;
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  out_of_range(flag, text, "a finite number >= 0");
+}
+
+// The deepest tree structure `name` builds: the octree's finest cells must stay exact
+// integers, grid3d's walk recurses once per level.
+int depth_cap(const std::string& name) {
+  if (name == "octree") return Octree::kDepthCap;
+  if (name == "grid3d") return NestedGrid::kMaxDepthCap;
+  return kMaxDepth;
+}
+
+}  // namespace
+
+void check_params(const std::string& name, const AccelParams& params) {
+  check_non_negative("--intcost", params.intcost);
+  check_non_negative("--repcost", params.repcost);
+  check_non_negative("--travcost", params.travcost);
+  check_non_negative("--vertcost", params.vertcost);
+  check_non_negative("--subcost", params.subcost);
+  check_non_negative("--density", params.density);
+  check_int("--max-granularity", params.max_granularity, 1, kMaxGranularity);
+  if (params.max_depth != 0)  // 0: the structure's default
+    check_int("--max-depth", params.max_depth, 1, depth_cap(name), " for " + name);
+  check_int("--leaf-size", params.leaf_size, 0, kMaxLeafSize);
+  check_int("--sample-every", params.sample_every, 1, std::numeric_limits<int>::max());
+  check_int("--build-threads", params.build_threads, 0, kMaxThreads);
+  if (params.memory_budget > kMaxMemoryBudget)
+    out_of_range("--memory-budget", std::to_string(params.memory_budget),
+                 "at most " + std::to_string(kMaxMemoryBudget) + " bytes (1 TiB)");
+}
 
 nlohmann::json AccelParams::to_json() const {
   return {{"intcost", intcost},
@@ -53,6 +107,8 @@ std::vector<std::string> accelerator_names() {
 }
 
 std::unique_ptr<Accelerator> make_accelerator(const std::string& name, const AccelParams& params) {
+  const std::vector<std::string> names = accelerator_names();
+  if (std::find(names.begin(), names.end(), name) != names.end()) check_params(name, params);
   if (name == "brute") return std::make_unique<BruteForce>();
   if (name == "grid1d") return std::make_unique<Grid1D>(params);
   if (name == "uniform") return std::make_unique<UniformGrid>(params);

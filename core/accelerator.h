@@ -18,6 +18,18 @@ namespace gs {
 
 enum class AxisRule { alternate, cost };
 
+// Parameter ranges (README "Limits"), checked in one place, make_accelerator, so that a bad
+// value is a one-line usage error whoever sets it (CLI, viewer, tests). Granularity times
+// depth cannot explode: grid1d caps each axis's absolute granularity (the product of the
+// g's above a voxel) at 2^50, the octree's depth at 20 (2^20 finest cells per side) and
+// grid3d's at 16, and every structure's memory is bounded by memory_budget.
+inline constexpr int kMaxGranularity = 4096;  // cells one voxel is cut into
+inline constexpr int kMaxDepth = 64;          // tree depth; a structure's own cap may be lower
+inline constexpr int kMaxLeafSize = 1 << 20;
+// Lazy structures reserve (never commit) address space for several arrays of up to the
+// budget each; 1 TiB keeps that within the 128 TiB of an x86-64 process.
+inline constexpr uint64_t kMaxMemoryBudget = uint64_t{1} << 40;
+
 // Every structure parameter, named after the paper (§6.2) where the paper names it.
 // Each run echoes these into its stats.
 struct AccelParams {
@@ -65,9 +77,10 @@ class ThreadContext {
   static constexpr uint64_t kNoRayIndex = ~uint64_t{0};
   virtual ~ThreadContext() = default;
   TraceCounters counters;
-  // The position of the ray being traced in the run's ray file, set by run_trace before
-  // each call; kNoRayIndex elsewhere (renders). Only "zero" reads it: its oracle is keyed
-  // by ray index.
+  // The key of the ray being traced, set before each call: its position in the ray file
+  // (run_trace) or its render_ray_key (pixel, sample, bounce, kind; the renderer), never
+  // dependent on thread scheduling; kNoRayIndex elsewhere (sampling pass, walks). Only
+  // "zero" reads it: its oracle is indexed by it.
   uint64_t ray_index = kNoRayIndex;
 };
 
@@ -119,7 +132,10 @@ class Accelerator {
 };
 
 std::vector<std::string> accelerator_names();
-// Throws UsageError for an unknown name.
+// Throws UsageError for an unknown name or a parameter out of range (check_params).
 std::unique_ptr<Accelerator> make_accelerator(const std::string& name, const AccelParams& params);
+// Throws UsageError naming the flag when a parameter is outside the ranges above or the
+// depth exceeds structure `name`'s own cap.
+void check_params(const std::string& name, const AccelParams& params);
 
 }  // namespace gs

@@ -140,6 +140,13 @@ struct Bvh::Builder {
     const double leaf_cost = kIntersectionCost * n;
     if (n <= uint32_t(bvh.leaf_size_) && !(split.cost < leaf_cost))
       return make_leaf(node, begin, end);
+    // Nodes are the only part that grows with splitting (each triangle is copied once
+    // whatever the tree): a split whose two children would exceed the budget is not made.
+    // Depth first, so under a tight budget the first subtrees get the nodes.
+    if ((bvh.nodes_.size() + 2) * sizeof(Node) > bvh.memory_budget_) {
+      ++bvh.over_budget_;
+      return make_leaf(node, begin, end);
+    }
     const uint32_t mid = partition(begin, end, split);
     const uint32_t left = uint32_t(bvh.nodes_.size());
     bvh.nodes_.resize(bvh.nodes_.size() + 2);
@@ -152,14 +159,15 @@ struct Bvh::Builder {
 
 Bvh::Bvh(const AccelParams& params)
     : leaf_size_(params.leaf_size_or(kDefaultLeafSize)),
-      max_depth_(std::min(params.depth_or(kDefaultMaxDepth), kMaxDepthCap)) {}
+      max_depth_(std::min(params.depth_or(kDefaultMaxDepth), kMaxDepthCap)),
+      memory_budget_(params.memory_budget) {}
 
 void Bvh::build(const Scene& scene) {
   const auto start = std::chrono::steady_clock::now();
   const std::vector<TriangleVerts> verts = gather_triangles(scene);
   bounds_ = scene.bounds();
   root_ = ClipBox(bounds_);
-  nodes_.clear(), triangles_.clear(), leaves_ = 0;
+  nodes_.clear(), triangles_.clear(), leaves_ = over_budget_ = 0;
   Builder builder{*this, std::vector<DBox>(verts.size()), {}, {}, verts};
   builder.centroids.resize(verts.size());
   for (uint32_t id = 0; id < verts.size(); ++id) {
@@ -176,7 +184,7 @@ void Bvh::build(const Scene& scene) {
     builder.ids.push_back(id);
   }
   if (!builder.ids.empty()) {
-    nodes_.reserve(2 * builder.ids.size());
+    nodes_.reserve(std::min<uint64_t>(2 * builder.ids.size(), memory_budget_ / sizeof(Node) + 1));
     nodes_.resize(1);
     builder.build(0, 0, uint32_t(builder.ids.size()), 0);
   }
@@ -281,6 +289,7 @@ StructureStats Bvh::stats() const {
   s.traversal_states = std::nullopt;
   s.memory_bytes = nodes_.size() * sizeof(Node) + triangles_.size() * sizeof(PackedTriangle);
   s.build_seconds = build_seconds_;
+  s.voxels_over_budget = over_budget_;
   return s;
 }
 

@@ -14,7 +14,9 @@
 // slack as the grids).
 //
 // Stats: nodes, leaves, voxels_subdivided = inner nodes, traversal_states = null,
-// traversal_steps = nodes visited (popped and not culled, root included).
+// traversal_steps = nodes visited (popped and not culled, root included),
+// voxels_over_budget = nodes left leaves because their children would take the nodes past
+// the memory budget (the triangles, copied once in leaf order, come on top).
 #pragma once
 #include <vector>
 
@@ -62,11 +64,12 @@ class Bvh final : public Accelerator {
 
   int leaf_size_;
   int max_depth_;
+  uint64_t memory_budget_;  // bytes of nodes
   std::vector<Node> nodes_;
   std::vector<PackedTriangle> triangles_;
   Box bounds_;
   ClipBox root_;
-  uint64_t leaves_ = 0;
+  uint64_t leaves_ = 0, over_budget_ = 0;
   double build_seconds_ = 0.0;
 };
 

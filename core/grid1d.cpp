@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "core/cost_model.h"
+#include "core/error.h"
 
 namespace gs {
 namespace {
@@ -104,8 +105,10 @@ class alignas(64) Grid1D::Context final : public ThreadContext {
     mailbox_ray[slot] = ray, mailbox_triangle[slot] = triangle;
     return false;
   }
+  // A state first met by this thread grows the table. The size is kept beside the vector:
+  // vector::size() divides by the record's size on every descent.
   StateValues& state(uint32_t id) {
-    if (id >= states.size()) states.resize(size_t(id) + 64);
+    if (id >= state_count) states.resize(state_count = size_t(id) + 64);
     return states[id];
   }
 
@@ -113,6 +116,7 @@ class alignas(64) Grid1D::Context final : public ThreadContext {
   uint64_t mailbox_ray[kMailboxSlots] = {};
   uint32_t mailbox_triangle[kMailboxSlots] = {};
   std::vector<StateValues> states;
+  size_t state_count = 0;
   uint64_t ray_id = 0;
 
  private:
@@ -200,6 +204,15 @@ void Grid1D::voxel_box(uint32_t id, double lo[3], double hi[3]) const {
   }
 }
 
+// The root voxel's records and triangle list (and the sample's index list) are the least the
+// structure can be: a budget that cannot hold them is a usage error, not a silent leaf.
+size_t Grid1D::fits_budget(size_t first, const char* what) const {
+  if (first == SIZE_MAX)
+    throw UsageError("--memory-budget " + std::to_string(params_.memory_budget) +
+                     " bytes cannot hold grid1d's root voxel (" + what + ")");
+  return first;
+}
+
 void Grid1D::build(const Scene& scene) {
   const auto start = Clock::now();
   triangles_ = gather_triangles(scene);
@@ -214,10 +227,10 @@ void Grid1D::build(const Scene& scene) {
       usable.push_back(id);
   }
   for (uint32_t a = 0; a < 3; ++a) state_for(a, 1);  // states 0, 1, 2: the box on each axis
-  const uint32_t root = uint32_t(voxels_.append(1));
-  regions_.construct(root, 1);
+  const auto root = uint32_t(fits_budget(voxels_.append(1), "its record"));
+  if (!regions_.construct(root, 1)) fits_budget(SIZE_MAX, "its region");
   Voxel& voxel = voxels_[root];
-  voxel.tri_begin = uint32_t(tri_indices_.append(usable.size()));
+  voxel.tri_begin = uint32_t(fits_budget(tri_indices_.append(usable.size()), "its triangle list"));
   voxel.tri_count = uint32_t(usable.size());
   std::copy(usable.begin(), usable.end(), &tri_indices_[voxel.tri_begin]);
   Region& region = regions_[root];
@@ -243,7 +256,8 @@ void Grid1D::sample(std::span<const Ray> sample_rays, double rays_in_run) {
   Region& root = regions_[0];
   root.area_rays = rays_in_run;  // used only if no sample segment crosses the box
   root.sample_count = uint32_t(sample_.size());
-  root.sample_begin = uint32_t(sample_indices_.append(sample_.size()));
+  root.sample_begin =
+      uint32_t(fits_budget(sample_indices_.append(sample_.size()), "the sampling pass's rays"));
   for (uint32_t j = 0; j < sample_.size(); ++j) sample_indices_[root.sample_begin + j] = j;
   bytes_used_ += sample_.size() * sizeof(uint32_t);
 
@@ -321,6 +335,8 @@ Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
 
   const PreparedRay<KernelReal> prepared(ray, t_enter);
   float tmax = ray.tmax;
+  // Changes only with tmax: computed per hit rather than per step (nextafter is a libm call).
+  double stop = stop_distance(tmax, slack);
   TraceCounters& counters = context.counters;
   uint8_t status;
   uint32_t leaf = descend(0, t_enter, -1, walk, context, status, recorder);
@@ -330,6 +346,7 @@ Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
         test_leaf<AnyHit>(leaf, status, prepared, walk.ray_id, tmax, best, context, recorder);
     recorder.searched(best.id);
     if (AnyHit && found) return best;
+    if (found) stop = stop_distance(tmax, slack);
     // Leave the cell through its nearest wall, unless the nearest hit lies before it.
     // Written as selects, not branches: which axis comes next is unpredictable.
     const bool y_first = walk.t_next[1] < walk.t_next[0];
@@ -337,7 +354,7 @@ Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
     const bool z_first = walk.t_next[2] < t_xy;
     const int s = z_first ? 2 : int(y_first);
     const double t_exit = z_first ? walk.t_next[2] : t_xy;
-    if (t_exit > stop_distance(tmax, slack)) break;
+    if (t_exit > stop) break;
     // Step one cell on axis s; climb while the step leaves the current 1D array (§5.3).
     uint32_t id = walk.active[s];
     uint64_t local = 0;
@@ -376,35 +393,42 @@ Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
   return best;
 }
 
-// Tests the leaf's triangles not yet tested by this ray; true when one is hit. A leaf
-// another thread is still cutting (kBuilding) is read through its id list.
+// Tests the leaf's triangles not yet tested by this ray; true when one is hit. A finished
+// leaf is read from its packed run; a leaf another thread is still cutting (kBuilding), or
+// one the memory budget left unpacked, through its id list.
 template <bool AnyHit, class Recorder>
 bool Grid1D::test_leaf(uint32_t id, uint8_t status, const PreparedRay<KernelReal>& prepared,
                        uint64_t ray_id, float& tmax, Hit& best, Context& context,
                        Recorder& recorder) const {
   const Voxel& voxel = voxels_[id];
-  const bool packed = status == kLeaf && voxel.first_packed != kNone;
   TraceCounters& counters = context.counters;
   bool found = false;
-  for (uint32_t i = 0; i < voxel.tri_count; ++i) {
-    const PackedTriangle* record = packed ? &packed_[voxel.first_packed + i] : nullptr;
-    const uint32_t tri_id = packed ? record->id : tri_indices_[voxel.tri_begin + i];
-    if (!(packed && record->only_here) && context.already_tested(tri_id, ray_id)) {
+  // One triangle: mailbox (unless it lies in this leaf only), then the kernel.
+  const auto test = [&](const TriangleVerts& tri, uint32_t tri_id, bool only_here) {
+    if (!only_here && context.already_tested(tri_id, ray_id)) {
       ++counters.mailbox_rejections;
       recorder.rejected();
-      continue;
+      return false;
     }
     ++counters.intersection_tests;
     recorder.tested();
-    const TriangleVerts& tri = packed ? record->verts : triangles_[tri_id];
     float t, u, v;
-    if (intersect_triangle(prepared, tri.v0, tri.v1, tri.v2, tmax, t, u, v) &&
-        closer(t, int32_t(tri_id), best)) {
-      best = {int32_t(tri_id), t, u, v};
-      tmax = t;
-      found = true;
-      if (AnyHit) return true;
-    }
+    if (!intersect_triangle(prepared, tri.v0, tri.v1, tri.v2, tmax, t, u, v) ||
+        !closer(t, int32_t(tri_id), best))
+      return false;
+    best = {int32_t(tri_id), t, u, v};
+    tmax = t;
+    return found = true;
+  };
+  if (status == kLeaf && voxel.first_packed != kNone) {
+    const PackedTriangle* record = &packed_[voxel.first_packed];
+    for (const PackedTriangle* end = record + voxel.tri_count; record != end; ++record)
+      if (test(record->verts, record->id, record->only_here) && AnyHit) return true;
+    return found;
+  }
+  for (uint32_t i = 0; i < voxel.tri_count; ++i) {
+    const uint32_t tri_id = tri_indices_[voxel.tri_begin + i];
+    if (test(triangles_[tri_id], tri_id, false) && AnyHit) return true;
   }
   return found;
 }
@@ -419,7 +443,7 @@ uint32_t Grid1D::cross_empty_run(uint32_t cell, int s, uint32_t state, RayWalk& 
                                  Context& context, Recorder& recorder) const {
   const Voxel& empty = voxels_[cell];
   const uint32_t run = empty.empty_run[walk.step[s] > 0 ? 0 : 1];
-  const double other_wall = std::min(walk.t_next[(s + 1) % 3], walk.t_next[(s + 2) % 3]);
+  const double other_wall = std::min(walk.t_next[s == 0 ? 1 : 0], walk.t_next[s == 2 ? 1 : 2]);
   Context::StateValues& values = context.states[state];
   uint32_t crossed = 0;
   while (crossed + 1 < run && walk.t_next[s] < other_wall) {
@@ -436,9 +460,12 @@ uint32_t Grid1D::cross_empty_run(uint32_t cell, int s, uint32_t state, RayWalk& 
 // setting each passed voxel's traversal state. The §5.2.2 cases: a state this ray used
 // and has not yet left needs nothing; entering through a wall on the voxel's own axis puts
 // the ray in the first or last cell (figure 7); otherwise the cell comes from the point.
+// Inlined into the walk: called on about half the steps, and a call's register saving
+// cost as much as a one-level descent.
 template <class Recorder>
-uint32_t Grid1D::descend(uint32_t id, double t_cur, int entered_axis, RayWalk& walk,
-                         Context& context, uint8_t& status, Recorder& recorder) const {
+[[gnu::always_inline]] inline uint32_t Grid1D::descend(uint32_t id, double t_cur, int entered_axis,
+                                                       RayWalk& walk, Context& context,
+                                                       uint8_t& status, Recorder& recorder) const {
   for (;;) {
     const Voxel& voxel = voxels_[id];
     status = voxel.status.load(std::memory_order_acquire);
@@ -556,15 +583,6 @@ void fill_cells(const std::vector<std::pair<int64_t, int64_t>>& ranges,
 
 }  // namespace
 
-// The §6 decision for one voxel, a pure function of the voxel, the sample and the
-// parameters (never of which ray arrived first), so lazy, eager and any number of threads
-// build the same structure. Candidate axes: the paper's alternation by depth, or all axes
-// by cost (the paper's future work, comparing with the along-axis term added back). An
-// axis that cannot be cut (too thin) or whose cut separates nothing (every cell would keep
-// all the voxel's triangles: coincident or spanning triangles) gives way to the next
-// candidate. A cut that leaves all triangles in one cell and the others empty is kept: it
-// is how a small cluster in large extents ("teapot in a stadium") gets isolated, and the
-// depth cap and the minimum cell width bound it on degenerate input.
 // N, extents, mean triangle sizes (each clipped to the voxel, §6.3) and estimated rays.
 VoxelFigures Grid1D::figures_of(uint32_t id, const double lo[3], const double hi[3]) const {
   const Voxel& voxel = voxels_[id];
@@ -715,8 +733,8 @@ uint32_t Grid1D::state_for(uint32_t axis, uint64_t granularity) const {
   const uint64_t key = granularity << 2 | axis;
   const auto found = state_ids_.find(key);
   if (found != state_ids_.end()) return found->second;
-  const uint32_t id = uint32_t(states_.append(1));
-  state_rays_.construct(id, 1);
+  const auto id = uint32_t(fits_budget(states_.append(1), "its traversal states"));
+  if (!state_rays_.construct(id, 1)) fits_budget(SIZE_MAX, "its traversal states");
   const double extent = root_.hi[axis] - root_.lo[axis];
   states_[id] = {root_.lo[axis], extent, double(granularity) / extent, extent / double(granularity),
                  granularity,    axis};

@@ -146,6 +146,8 @@ class Grid1D final : public Accelerator {
   double estimated_rays(uint32_t voxel) const;
   uint32_t state_for(uint32_t axis, uint64_t granularity) const;
 
+  // `first` (an append's result) unless the append failed: then a UsageError naming `what`.
+  size_t fits_budget(size_t first, const char* what) const;
   AccelParams params_;
   std::vector<TriangleVerts> triangles_;
   std::vector<double> tri_box_;  // per triangle lo.xyz, hi.xyz, padded (see build)

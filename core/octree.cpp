@@ -35,18 +35,32 @@ void Octree::build(const Scene& scene) {
   }
   fine_ = uint32_t{1} << depth_;
   inv_fine_ = 1.0 / double(fine_);
-  for (int a = 0; a < 3; ++a) {
-    const double extent = box_.hi[a] - box_.lo[a];
-    fine_scale_[a] = extent > 0.0 ? double(fine_) / extent : 0.0;
-  }
+  set_cell_extents();
   nodes_.assign(1, Node{0, 0});
   refs_.clear();
+  planned_refs_ = usable.size();
   leaves_ = internal_ = over_budget_ = 0;
   depth_reached_ = 0;
   const uint32_t origin[3] = {0, 0, 0};
   build_node(0, 0, origin, usable);
   tri_box_ = {};
   build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The root's cells span the scene box, except along an axis thinner than the finest cell
+// of the longest one (a flat or nearly flat scene): there every triangle would straddle
+// every cut and be copied into both halves at each level, 2^depth copies in all. Such an
+// axis's cells span the longest extent from the box's low side instead, so the whole scene
+// stays in the first cell along it and nothing is copied. Rays are still clipped to the
+// scene box, as brute clips them.
+void Octree::set_cell_extents() {
+  double longest = 0.0;
+  for (int a = 0; a < 3; ++a) longest = std::max(longest, box_.hi[a] - box_.lo[a]);
+  for (int a = 0; a < 3; ++a) {
+    const double extent = box_.hi[a] - box_.lo[a];
+    cell_extent_[a] = extent < longest * inv_fine_ ? longest : extent;
+    fine_scale_[a] = cell_extent_[a] > 0.0 ? double(fine_) / cell_extent_[a] : 0.0;
+  }
 }
 
 // Glassner's rule: a node with more than leaf-size triangles is cut into 8, unless the depth
@@ -76,10 +90,12 @@ void Octree::build_node(uint32_t node, int depth, const uint32_t lo[3],
 
 // Sorts the node's triangles into its 8 children by padded box overlap with the children's
 // closed boxes (a triangle touching the mid-plane goes into both halves). False, leaving a
-// leaf, when the cut would exceed the memory budget or separates nothing: one child keeps
-// every triangle while each sits in two children or more on average (coincident or nearly
-// coincident triangles straddling the cut, DESIGN.md §1; cutting again only copies them).
-// A child keeping everything with little straddling (a cluster inside one octant) is cut.
+// leaf, when the cut separates nothing: one child keeps every triangle while each sits in
+// two children or more on average (coincident or nearly coincident triangles straddling
+// the cut, DESIGN.md §1; cutting again only copies them). A child keeping everything with
+// little straddling (a cluster inside one octant) is cut. False too when the nodes and
+// references planned so far (every open list counted as the leaf it may yet become) plus
+// this cut's would exceed the memory budget: the finished tree then stays within it.
 bool Octree::split(uint32_t /*node*/, int depth, const uint32_t lo[3],
                    const std::vector<uint32_t>& tris, std::vector<uint32_t> (&children)[8]) {
   const uint32_t half = fine_ >> (depth + 1);
@@ -102,18 +118,20 @@ bool Octree::split(uint32_t /*node*/, int depth, const uint32_t lo[3],
     refs += child.size();
   }
   if (largest == tris.size() && refs >= kInseparableCopies * tris.size()) return false;
-  const uint64_t bytes = (nodes_.size() + 8) * sizeof(Node) + (refs_.size() + refs) * 4;
-  if (bytes > memory_budget_ || refs_.size() + refs >= UINT32_MAX) {
+  const uint64_t planned = planned_refs_ + refs - tris.size();
+  const uint64_t bytes = (nodes_.size() + 8) * sizeof(Node) + planned * sizeof(uint32_t);
+  if (bytes > memory_budget_ || planned >= UINT32_MAX) {
     ++over_budget_;
     return false;
   }
+  planned_refs_ = planned;
   return true;
 }
 
 // A wall of the finest level from its integer index: lo + extent * (i / 2^depth), the same
 // double for every level that names it (scaling by a power of two is exact).
 double Octree::wall(int axis, uint64_t fine_index) const {
-  return box_.lo[axis] + (box_.hi[axis] - box_.lo[axis]) * (double(fine_index) * inv_fine_);
+  return box_.lo[axis] + cell_extent_[axis] * (double(fine_index) * inv_fine_);
 }
 
 // The finest cell holding coordinate p, clamped into the box; off by one only within

@@ -3,7 +3,9 @@
 // children, down to a depth cap. Built eagerly. Traversal is Glassner's: after a leaf, find
 // the point just past its exit and locate it from the root; here the point is an integer
 // cell on the finest level (2^depth per side), so no epsilon nudge is needed and the walk
-// never loses or repeats a leaf.
+// never loses or repeats a leaf. Along an axis thinner than the finest cell of the longest
+// one (a flat scene) the root spans the longest extent, so triangles are not copied into
+// both halves of every cut (set_cell_extents).
 //
 // Defaults: max depth 6 and leaf size 4, near the values published comparisons used for
 // octrees (depth about 6, 4-8 triangles per leaf); depth 6 allows 8^6 = 262144 leaves. On
@@ -34,6 +36,8 @@ class Octree final : public Accelerator {
   Hit intersect(const Ray& ray, ThreadContext& context) const override;
   Hit any_hit(const Ray& ray, ThreadContext& context) const override;
   // nodes, leaves, voxels_subdivided = internal nodes; traversal_states = null;
+  // voxels_over_budget = nodes left leaves because their cut would exceed the memory
+  // budget (nodes and references; the triangles' corners come on top);
   // TraceCounters::traversal_steps counts leaves visited.
   StructureStats stats() const override;
 
@@ -62,6 +66,7 @@ class Octree final : public Accelerator {
   Located locate(const uint32_t fine[3]) const;
   uint32_t fine_cell(int axis, double p) const;
   double wall(int axis, uint64_t fine_index) const;
+  void set_cell_extents();
   void build_node(uint32_t node, int depth, const uint32_t lo[3], std::vector<uint32_t>& tris);
   bool split(uint32_t node, int depth, const uint32_t lo[3], const std::vector<uint32_t>& tris,
              std::vector<uint32_t> (&children)[8]);
@@ -72,12 +77,14 @@ class Octree final : public Accelerator {
   std::vector<TriangleVerts> triangles_;
   std::vector<double> tri_box_;  // per triangle lo.xyz, hi.xyz padded (build only)
   Box bounds_;
-  ClipBox box_;                // the root: the padded scene box every ray is clipped to
-  uint32_t fine_ = 1;          // 2^depth_: finest cells per side
-  double inv_fine_ = 1.0;      // 2^-depth_, exact
-  double fine_scale_[3] = {};  // finest cells per unit length
+  ClipBox box_;            // the padded scene box every ray is clipped to; the root's low corner
+  uint32_t fine_ = 1;      // 2^depth_: finest cells per side
+  double inv_fine_ = 1.0;  // 2^-depth_, exact
+  double cell_extent_[3] = {};  // the root cell's extent (see set_cell_extents)
+  double fine_scale_[3] = {};   // finest cells per unit length
   std::vector<Node> nodes_;
   std::vector<uint32_t> refs_;
+  uint64_t planned_refs_ = 0;  // refs_ plus every list still being built (build only)
   uint64_t leaves_ = 0, internal_ = 0, over_budget_ = 0;
   int depth_reached_ = 0;
   size_t degenerate_ = 0;

@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <exception>
 #include <glm/vec3.hpp>
+#include <new>
 #include <nlohmann/json.hpp>
+
+#include "core/error.h"
 
 namespace gs {
 
@@ -26,7 +29,27 @@ struct StructureKey {
   }
 };
 
+// A width x height image with spp samples per pixel; render's defaults otherwise.
+RenderSettings image_settings(int width, int height, int spp, int threads) {
+  RenderSettings settings;
+  settings.width = width, settings.height = height, settings.spp = spp, settings.threads = threads;
+  return settings;
+}
+
 uint32_t saturating_add(uint32_t a, uint32_t b) { return a > UINT32_MAX - b ? UINT32_MAX : a + b; }
+
+// Inside a catch block: what the exception says, on one line (the UI and stderr show it).
+std::string caught_error_line() {
+  std::string message = "unknown error";
+  try {
+    throw;
+  } catch (const std::exception& error) {
+    message = error.what();
+  } catch (...) {
+  }
+  std::replace(message.begin(), message.end(), '\n', ' ');
+  return message.empty() ? "unknown error" : message;
+}
 
 }  // namespace
 
@@ -110,6 +133,12 @@ struct ProgressiveRenderer::State {
     State& state_;
   };
 
+  // Whether the newest setup still asks for a structure made from `key`.
+  bool wanted(const StructureKey& key) {
+    std::lock_guard lock(mutex);
+    return !stop && StructureKey(setup) == key;
+  }
+
   void controller_loop();
   void run_generation(uint64_t gen, const ViewSetup& setup, std::shared_ptr<Accelerator> accel);
 };
@@ -160,13 +189,16 @@ void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& s
   int last_pass = 0;
   try {
     const int w = setup.width, h = setup.height;
-    const RenderSettings centre{w, h, 1, setup.threads};
+    const RenderSettings centre = image_settings(w, h, 1, setup.threads);
     check_render_settings(centre);
     if (!accel) {
       // A new structure: built and sampled here (not cancellable; the image's sampling pass
       // with spp 1, as `trace --sample-image WxH` does it).
       std::shared_ptr<Accelerator> built = make_accelerator(setup.accel, setup.params);
       built->build(*setup.scene);
+      // Parameters changed (or the window closed) during the build: skip the sampling pass
+      // of a structure nobody will use. A camera change keeps it: it still fits.
+      if (!wanted(StructureKey(setup))) return;
       sample_image(*built, setup.camera, centre);
       lazy_seconds = 0.0;
       std::lock_guard lock(mutex);
@@ -225,7 +257,7 @@ void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& s
     std::vector<glm::vec3> sums(size_t(w) * size_t(h));
     for (int spp = 2; spp <= max_spp; ++spp) {
       const int first = spp == 2 ? 0 : spp - 1;
-      const RenderSettings settings{w, h, spp, setup.threads};
+      const RenderSettings settings = image_settings(w, h, spp, setup.threads);
       outcome = render_pass(scene, *accel, setup.camera, settings, 1, first, &sums, run_row);
       if (abandoned()) return;
       if (first == 0) {
@@ -242,14 +274,7 @@ void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& s
     std::lock_guard lock(mutex);
     if (generation == gen) busy = false;
   } catch (...) {
-    std::string message = "unknown error";
-    try {
-      throw;
-    } catch (const std::exception& error) {
-      message = error.what();
-    } catch (...) {
-    }
-    std::replace(message.begin(), message.end(), '\n', ' ');
+    const std::string message = caught_error_line();
     std::lock_guard lock(mutex);
     if (generation != gen) return;
     auto frame = std::make_shared<ProgressiveFrame>();
@@ -257,7 +282,7 @@ void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& s
     frame->width = setup.width;
     frame->height = setup.height;
     frame->pass = last_pass + 1;
-    frame->error = message.empty() ? "unknown error" : message;
+    frame->error = message;
     this->frame = std::move(frame);
     if (!settled) {
       settled = true;
@@ -352,5 +377,85 @@ void ProgressiveRenderer::with_structure_paused(
 }
 
 bool ProgressiveRenderer::busy() const { return state_->busy.load(); }
+
+bool ProgressiveRenderer::structure_ready() const {
+  std::lock_guard lock(state_->mutex);
+  return state_->settled;
+}
+
+struct SceneLoader::State {
+  // Guarded by `mutex`. Requests are numbered; `taken` is the newest one handed out.
+  mutable std::mutex mutex;
+  std::condition_variable cv;  // the worker: a new request, or stop
+  bool stop = false;
+  uint64_t requested = 0, taken = 0;
+  std::string spec;              // of request `requested`
+  std::optional<Result> result;  // of request `requested`, when done
+  std::thread worker;
+
+  void worker_loop();
+};
+
+void SceneLoader::State::worker_loop() {
+  uint64_t done = 0;
+  for (;;) {
+    uint64_t request = 0;
+    Result loaded;
+    {
+      std::unique_lock lock(mutex);
+      cv.wait(lock, [&] { return stop || requested != done; });
+      if (stop) return;
+      request = done = requested;
+      loaded.spec = spec;
+    }
+    try {
+      loaded.scene = std::make_shared<const Scene>(load_scene(loaded.spec));
+    } catch (const InputError&) {
+      loaded.error = caught_error_line();  // "FILE: problem" already
+    } catch (const std::bad_alloc&) {
+      loaded.error = loaded.spec + ": out of memory";
+    } catch (...) {
+      loaded.error = loaded.spec + ": " + caught_error_line();
+    }
+    std::lock_guard lock(mutex);
+    if (request == requested) result = std::move(loaded);  // else superseded: dropped
+  }
+}
+
+SceneLoader::SceneLoader() : state_(std::make_unique<State>()) {
+  state_->worker = std::thread([state = state_.get()] { state->worker_loop(); });
+}
+
+SceneLoader::~SceneLoader() {
+  {
+    std::lock_guard lock(state_->mutex);
+    state_->stop = true;
+    state_->cv.notify_all();
+  }
+  state_->worker.join();
+}
+
+void SceneLoader::load(const std::string& spec) {
+  std::lock_guard lock(state_->mutex);
+  state_->spec = spec;
+  ++state_->requested;
+  state_->result.reset();
+  state_->cv.notify_all();
+}
+
+std::optional<SceneLoader::Result> SceneLoader::take() {
+  std::lock_guard lock(state_->mutex);
+  if (!state_->result) return std::nullopt;
+  std::optional<Result> result = std::move(state_->result);
+  state_->result.reset();
+  state_->taken = state_->requested;
+  return result;
+}
+
+std::optional<std::string> SceneLoader::pending() const {
+  std::lock_guard lock(state_->mutex);
+  if (state_->taken == state_->requested) return std::nullopt;
+  return state_->spec;
+}
 
 }  // namespace gs

@@ -3,7 +3,8 @@
 // blocks), then full resolution at pixel centres (the same image `gridscope render --spp 1`
 // gives), then jittered samples accumulated one per pixel per pass (antialiasing, soft
 // shadows). Any change of view, scene, structure or parameters restarts it; the UI thread
-// only takes finished frames.
+// only takes finished frames. SceneLoader reads scene files on a worker thread for the same
+// reason: the UI never waits for a file (issue 5).
 #pragma once
 #include <atomic>
 #include <condition_variable>
@@ -71,6 +72,36 @@ class ProgressiveRenderer {
   void with_structure_paused(const std::function<void(const Accelerator&)>& visit);
   // True while passes are still being rendered (not yet at max_spp).
   bool busy() const;
+  // True when the current setup's structure is known (built and sampled, failed, or none):
+  // record_walk then does not wait for a build, only for the rows in flight.
+  bool structure_ready() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+// Loads scenes on a worker thread, one request at a time: a newer request supersedes an
+// older one (a load in progress is finished and dropped: load_scene cannot be interrupted).
+class SceneLoader {
+ public:
+  struct Result {
+    std::string spec;                    // what was asked for
+    std::shared_ptr<const Scene> scene;  // null when the load failed
+    std::string error;                   // then: one line naming the file and the problem
+  };
+
+  SceneLoader();
+  ~SceneLoader();  // waits for a load in progress
+  SceneLoader(const SceneLoader&) = delete;
+  SceneLoader& operator=(const SceneLoader&) = delete;
+
+  // Starts loading SCENE (a path or builtin:NAME) and returns at once.
+  void load(const std::string& spec);
+  // The newest request's result, once it is done; each result is handed out once.
+  std::optional<Result> take();
+  // The newest request while its result has not been taken.
+  std::optional<std::string> pending() const;
 
  private:
   struct State;

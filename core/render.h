@@ -1,6 +1,7 @@
 // The CPU renderer behind `gridscope render` (and the viewer's image): one primary ray per
 // sample, Lambert shading from the geometric normal with one shadow ray toward a point
-// light above and behind the camera, an ambient term, a constant background.
+// light above and behind the camera, an ambient term, a constant background (the paper's
+// workload, §7); optionally diffuse bounces, each hit lit the same way.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -23,6 +24,7 @@ constexpr std::array<uint8_t, 3> kBackground = {28, 32, 44};
 
 constexpr int kMaxImageSide = 16384;
 constexpr int kMaxSpp = 65536;
+constexpr int kMaxBounces = 4;
 
 struct RenderSettings {
   int width = 640;
@@ -31,10 +33,16 @@ struct RenderSettings {
   // so that every run gives the same image.
   int spp = 1;
   int threads = default_thread_count();
+  // 0: the paper's workload, a primary ray and a shadow ray per sample. N: also N chained
+  // diffuse bounces (cosine-weighted, fixed hash), each hit lit with its own shadow ray.
+  int bounces = 0;
+  // Where the point light is; default: above and behind the camera. A closed interior (the
+  // bench's cathedral) needs it inside, or every shadow ray ends on the roof.
+  std::optional<glm::vec3> light = std::nullopt;
 };
 
-// Throws UsageError unless the size is 1..kMaxImageSide per side, spp 1..kMaxSpp and the
-// thread count is valid.
+// Throws UsageError unless the size is 1..kMaxImageSide per side, spp 1..kMaxSpp, bounces
+// 0..kMaxBounces and the thread count is valid.
 void check_render_settings(const RenderSettings& settings);
 
 struct Image {
@@ -69,9 +77,31 @@ std::vector<size_t> image_sample_pixels(int width, int height);
 // one pixel in every 8x8 block, standing for all width * height * spp primary rays.
 void sample_image(Accelerator& accel, const Camera& camera, const RenderSettings& settings);
 
+// Which of a bounce's two rays: the nearest-hit ray (primary or diffuse bounce) or the
+// shadow ray from its hit toward the light.
+enum class RayKind { nearest = 0, shadow = 1 };
+
+// Every ray a render may cast has a key, a pure function of (pixel, sample, bounce, kind)
+// and never of thread scheduling: the renderer puts it in ThreadContext::ray_index, the
+// "zero" oracle and --record-hits are indexed by it. Keys run over [0, render_ray_keys()):
+// pixel-major, then sample, bounce (0 = the primary ray's) and kind.
+inline uint64_t render_ray_key(const RenderSettings& settings, size_t pixel, int sample, int bounce,
+                               RayKind kind) {
+  const uint64_t bounce_slot = (uint64_t(pixel) * uint64_t(settings.spp) + uint64_t(sample)) *
+                                   uint64_t(settings.bounces + 1) +
+                               uint64_t(bounce);
+  return bounce_slot * 2 + uint64_t(kind);
+}
+// width * height * spp * (bounces + 1) * 2.
+uint64_t render_ray_keys(const RenderSettings& settings);
+
 // Renders with an accelerator already built over `scene`, rows spread over the threads.
+// With `answers`, it becomes render_ray_keys() hits, each the answer to the ray of that key
+// (intersect's for nearest rays, any_hit's for shadow rays), a miss for rays not cast: the
+// oracle "zero" replays. With "zero", throws InputError unless its oracle holds one hit
+// per key.
 RenderOutcome render_image(const Scene& scene, const Accelerator& accel, const Camera& camera,
-                           const RenderSettings& settings);
+                           const RenderSettings& settings, std::vector<Hit>* answers = nullptr);
 
 // How render_pass runs each row: run_row(row) calls row() to render it, or returns without
 // calling it to skip it (a cancelled pass). Called on the rendering threads, one row at a
@@ -109,13 +139,15 @@ struct RenderRun {
   RenderOutcome outcome;
   RunFigures figures;
 };
+// `answers` as in render_image.
 RenderRun build_and_render(const Scene& scene, Accelerator& accel, const Camera& camera,
-                           const RenderSettings& settings);
+                           const RenderSettings& settings, std::vector<Hit>* answers = nullptr);
 
 struct RenderJob {
   std::string scene;
   std::string out_path;    // PNG
   std::string stats_path;  // stats JSON; empty for none
+  std::string hits_path;   // every ray's answer by key (--record-hits); empty for none
   std::string accel = "grid1d";
   AccelParams params;
   RenderSettings settings;
@@ -123,8 +155,8 @@ struct RenderJob {
 };
 
 // The `render` command: makes the accelerator (usage errors first), loads the scene, builds,
-// samples, renders, writes the PNG and, if asked, the stats (the keys of trace's, with rays
-// = primary + shadow rays). Returns the stats.
+// samples, renders, writes the PNG and, if asked, the recorded hits and the stats (the keys
+// of trace's, with rays = every ray cast). Returns the stats.
 nlohmann::json run_render(const RenderJob& job);
 
 }  // namespace gs

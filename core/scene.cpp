@@ -72,14 +72,15 @@ bool starts_with_gzip_magic(FILE* f) {
   return got == 2 && magic[0] == 0x1f && magic[1] == 0x8b;
 }
 
-std::string read_plain(const std::string& path, FILE* f, uint64_t limit) {
+uint64_t file_size(const std::string& path, FILE* f) {
   std::fseek(f, 0, SEEK_END);
   const long size = std::ftell(f);
   std::rewind(f);
   if (size < 0) fail_input(path, "cannot read file: " + errno_text());
-  if (static_cast<uint64_t>(size) > limit) {
-    fail_input(path, "file is larger than the " + std::to_string(limit) + "-byte limit");
-  }
+  return static_cast<uint64_t>(size);
+}
+
+std::string read_plain(const std::string& path, FILE* f, uint64_t size) {
   std::string data(static_cast<size_t>(size), '\0');
   if (std::fread(data.data(), 1, data.size(), f) != data.size()) {
     fail_input(path, "cannot read file: " + errno_text());
@@ -130,12 +131,18 @@ std::string read_gzip(const std::string& path, FILE* f, uint64_t limit) {
 
 }  // namespace
 
-std::string read_scene_file(const std::string& path, uint64_t limit) {
+std::string read_scene_file(const std::string& path, uint64_t limit, uint64_t file_limit) {
   check_not_directory(path);
   FilePtr f(std::fopen(path.c_str(), "rb"), std::fclose);
   if (!f) fail_input(path, "cannot open file: " + errno_text());
-  return starts_with_gzip_magic(f.get()) ? read_gzip(path, f.get(), limit)
-                                         : read_plain(path, f.get(), limit);
+  const bool gzip = starts_with_gzip_magic(f.get());
+  const uint64_t size = file_size(path, f.get());
+  // A plain file's bytes are its data: both limits apply to it.
+  const uint64_t most = gzip ? file_limit : std::min(file_limit, limit);
+  if (size > most) {
+    fail_input(path, "file is larger than the " + std::to_string(most) + "-byte limit");
+  }
+  return gzip ? read_gzip(path, f.get(), limit) : read_plain(path, f.get(), size);
 }
 
 bool parse_float(const char* first, const char* last, float& out) {
@@ -177,6 +184,7 @@ Format format_of(const std::string& path) {
 // quotes the vertex number a person would look up in the file.
 void validate(const Scene& scene, const std::string& file, int first_index) {
   if (scene.triangles.empty()) fail_input(file, "no triangles");
+  check_scene_counts(file, scene.vertices.size(), scene.triangles.size());
   for (const glm::uvec3& t : scene.triangles) {
     for (int c = 0; c < 3; ++c) {
       const uint32_t v = t[c];
@@ -193,6 +201,17 @@ void validate(const Scene& scene, const std::string& file, int first_index) {
 }
 
 }  // namespace
+
+void check_scene_counts(const std::string& file, uint64_t vertices, uint64_t triangles,
+                        uint64_t max_vertices, uint64_t max_triangles) {
+  const auto check = [&](uint64_t count, uint64_t most, const char* what) {
+    if (count > most)
+      fail_input(file, std::to_string(count) + " " + what + ", more than the limit of " +
+                           std::to_string(most));
+  };
+  check(vertices, max_vertices, "vertices");
+  check(triangles, max_triangles, "triangles");
+}
 
 Scene load_scene(const std::string& spec) {
   constexpr std::string_view kBuiltin = "builtin:";

@@ -70,11 +70,32 @@ struct ScenePart {
 // Parts of built-in scene NAME in id order (they cover every triangle once).
 std::vector<ScenePart> builtin_scene_parts(const std::string& name);
 
+// Input limits (README "Limits"), so that a huge or hostile file is a one-line error and
+// never an exhausted machine. Loaders hold the whole file, then the scene (12 bytes a
+// triangle, 12 a vertex); a structure holds per triangle its corners (36 bytes), a padded
+// box while building (48) and references: about 100 bytes a triangle in all, so 2^28
+// triangles already take ~27 GB. 2^28 is also about what a 2 GiB binary PLY can describe
+// (13 bytes a face), 300 times the largest scene in ../shared (the dragon, 871k
+// triangles), and keeps triangle ids and reference counts well inside 32 bits.
+inline constexpr uint64_t kMaxSceneFileBytes = uint64_t{2} << 30;  // on disk
+inline constexpr uint64_t kMaxSceneDataBytes = uint64_t{4} << 30;  // inflated from gzip
+inline constexpr uint64_t kMaxSceneTriangles = uint64_t{1} << 28;  // after triangulation
+inline constexpr uint64_t kMaxSceneVertices = uint64_t{1} << 28;
+
+// Throws InputError naming `file` when a scene would hold more vertices or triangles than
+// the limits. Loaders may call it with declared counts before allocating; load_scene calls
+// it on every scene it returns.
+void check_scene_counts(const std::string& file, uint64_t vertices, uint64_t triangles,
+                        uint64_t max_vertices = kMaxSceneVertices,
+                        uint64_t max_triangles = kMaxSceneTriangles);
+
 namespace detail {
 // Reads a whole scene file into memory, inflating it when it starts with the gzip magic.
 // Throws InputError naming `path` for a missing file, a directory, a read error, corrupt
-// gzip data or more than `limit` bytes (the limit bounds what a gzip bomb can allocate).
-std::string read_scene_file(const std::string& path, uint64_t limit = uint64_t{4} << 30);
+// gzip data, a file of more than `file_limit` bytes or more than `limit` bytes of data
+// (the latter bounds what a gzip bomb can allocate).
+std::string read_scene_file(const std::string& path, uint64_t limit = kMaxSceneDataBytes,
+                            uint64_t file_limit = kMaxSceneFileBytes);
 // Parses a whole token [first, last) as a float with correct rounding (std::from_chars).
 // Accepts a leading '+', "nan" and "inf"; an out-of-range magnitude becomes +-inf or 0
 // as strtod would give. Returns false when the token is not a number.

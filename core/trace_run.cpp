@@ -157,10 +157,9 @@ nlohmann::json run_trace(const TraceJob& job) {
   stats["warm_trace_seconds"] = nullptr;
   stats["warm_rays_per_second"] = nullptr;
   if (!warm.empty()) {
-    std::nth_element(warm.begin(), warm.begin() + warm.size() / 2, warm.end());
-    const double median = warm[warm.size() / 2];
-    stats["warm_trace_seconds"] = median;
-    stats["warm_rays_per_second"] = median > 0.0 ? double(rays.size()) / median : 0.0;
+    const double warm_seconds = median(warm);
+    stats["warm_trace_seconds"] = warm_seconds;
+    stats["warm_rays_per_second"] = warm_seconds > 0.0 ? double(rays.size()) / warm_seconds : 0.0;
   }
   if (!job.stats_path.empty()) write_json(job.stats_path, stats);
   return stats;
@@ -196,6 +195,13 @@ nlohmann::json run_stats(const Scene& scene, const Accelerator& accel, nlohmann:
   stats["memory_bytes"] = structure.memory_bytes;
   stats["voxels_over_budget"] = structure.voxels_over_budget;
   return stats;
+}
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const size_t mid = values.size() / 2;
+  return values.size() % 2 ? values[mid] : 0.5 * (values[mid - 1] + values[mid]);
 }
 
 void write_json(const std::string& path, const nlohmann::json& json) {

@@ -5,6 +5,7 @@
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "core/accelerator.h"
 #include "core/scene.h"
@@ -66,6 +67,9 @@ nlohmann::json run_stats(const Scene& scene, const Accelerator& accel, nlohmann:
                          const RunFigures& figures);
 // Writes JSON with a final newline. Throws InputError naming the path when it cannot.
 void write_json(const std::string& path, const nlohmann::json& json);
+
+// The median of timed repetitions (the mean of the middle two for an even count); 0 for none.
+double median(std::vector<double> values);
 
 template <class Work>
 double seconds_of(Work&& work) {

@@ -29,16 +29,9 @@ void UniformGrid::build(const Scene& scene) {
       usable.push_back(id);
   }
   choose_resolution(usable.size());
-  // The structure must fit the memory budget: coarsen until the references do (bounded
-  // memory for thousands of coincident or huge triangles).
-  for (;;) {
-    set_walls();
-    const uint64_t refs = sort_into_cells(usable, false);
-    const uint64_t bytes = 4 * (refs + cell_count());
-    const bool coarsest = n_[0] == 1 && n_[1] == 1 && n_[2] == 1;
-    if (coarsest || (bytes <= params_.memory_budget && refs < UINT32_MAX)) break;
-    for (uint32_t& n : n_) n = std::max<uint32_t>(1, n / 2);
-  }
+  const uint64_t wanted = cell_count();
+  fit_budget(usable);
+  cells_over_budget_ = wanted - cell_count();
   sort_into_cells(usable, true);
   tri_box_ = {};
   build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -77,10 +70,38 @@ void UniformGrid::choose_resolution(size_t triangles) {
     n_[a] = uint32_t(std::min(n, double(kMaxCells)));
     cells *= n_[a];
   }
-  const double cap = double(std::min<uint64_t>(kMaxCells, params_.memory_budget / 8));
-  if (cells > cap) {
-    const double shrink = std::cbrt(cap / cells);
-    for (uint32_t& n : n_) n = std::max<uint32_t>(1, uint32_t(n * shrink));
+  if (cells > double(kMaxCells)) shrink_to(double(kMaxCells));
+}
+
+// Every side of more than one cell scaled by the same factor so that about `cells` cells
+// remain (at least one a side). A flat or long scene's grid has one or two such sides: a
+// cube root would leave it far too fine (found by tests/fuzz: 10^7 walls for a 16 MB budget).
+void UniformGrid::shrink_to(double cells) {
+  int sides = 0;
+  for (const uint32_t n : n_) sides += n > 1 ? 1 : 0;
+  if (sides == 0) return;
+  const double shrink = std::pow(cells / double(cell_count()), 1.0 / sides);
+  for (uint32_t& n : n_) n = std::max<uint32_t>(1, uint32_t(n * shrink));
+}
+
+// What the grid's arrays take with `refs` references: offsets, references and walls.
+uint64_t UniformGrid::grid_bytes(uint64_t refs) const {
+  return sizeof(uint32_t) * (cell_count() + 1 + refs) +
+         sizeof(double) * (uint64_t(n_[0]) + n_[1] + n_[2] + 3);
+}
+
+// The grid must fit the memory budget: fewer cells until its arrays do (thousands of
+// coincident or huge triangles make many references per cell), down to one cell, which is
+// built whatever the budget. Also keeps the references countable in 32 bits.
+void UniformGrid::fit_budget(const std::vector<uint32_t>& usable) {
+  if (grid_bytes(0) > params_.memory_budget)  // the empty cells alone do not fit
+    shrink_to(double(params_.memory_budget) / (sizeof(uint32_t) + 3 * sizeof(double)));
+  for (;;) {
+    set_walls();
+    const uint64_t refs = sort_into_cells(usable, false);
+    const bool coarsest = n_[0] == 1 && n_[1] == 1 && n_[2] == 1;
+    if (coarsest || (grid_bytes(refs) <= params_.memory_budget && refs < UINT32_MAX)) return;
+    for (uint32_t& n : n_) n = std::max<uint32_t>(1, n / 2);
   }
 }
 
@@ -228,6 +249,7 @@ StructureStats UniformGrid::stats() const {
                    (offsets_.size() + tris_.size()) * sizeof(uint32_t) +
                    (walls_[0].size() + walls_[1].size() + walls_[2].size()) * sizeof(double);
   s.build_seconds = build_seconds_;
+  s.voxels_over_budget = cells_over_budget_;
   return s;
 }
 

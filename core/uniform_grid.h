@@ -25,7 +25,9 @@ class UniformGrid final : public Accelerator {
   Hit intersect(const Ray& ray, ThreadContext& context) const override;
   Hit any_hit(const Ray& ray, ThreadContext& context) const override;
   // nodes = leaves = cells; voxels_subdivided = 0 (one level, nothing is cut further);
-  // traversal_states = null (the paper's term for grid1d's shared states).
+  // traversal_states = null (the paper's term for grid1d's shared states);
+  // voxels_over_budget = the cells the resolution asked for but the memory budget (or
+  // 32-bit reference counts) did not allow: the grid then has fewer cells per side.
   StructureStats stats() const override;
 
   // Read access for tests.
@@ -37,6 +39,9 @@ class UniformGrid final : public Accelerator {
   template <bool AnyHit>
   Hit trace(const Ray& ray, MailboxContext& context) const;
   void choose_resolution(size_t triangles);
+  void shrink_to(double cells);
+  uint64_t grid_bytes(uint64_t refs) const;
+  void fit_budget(const std::vector<uint32_t>& usable);
   void set_walls();
   uint32_t locate(int axis, double p) const;
   void cell_range(int axis, double lo, double hi, uint32_t& first, uint32_t& last) const;
@@ -53,6 +58,7 @@ class UniformGrid final : public Accelerator {
   std::vector<uint32_t> offsets_;  // cell c holds tris_[offsets_[c] .. offsets_[c + 1])
   std::vector<uint32_t> tris_;
   size_t degenerate_ = 0;
+  uint64_t cells_over_budget_ = 0;
   double build_seconds_ = 0.0;
 };
 

@@ -1,6 +1,7 @@
 #include "core/zero_overhead.h"
 
 #include <chrono>
+#include <utility>
 
 #include "core/error.h"
 #include "core/ray_io.h"
@@ -12,9 +13,12 @@ ZeroOverhead::ZeroOverhead(const AccelParams& params) : oracle_path_(params.orac
     throw UsageError("structure 'zero' needs --oracle FILE.hits (the hits of an earlier run)");
 }
 
+ZeroOverhead::ZeroOverhead(std::vector<Hit> oracle)
+    : oracle_path_("(memory)"), oracle_in_memory_(true), oracle_(std::move(oracle)) {}
+
 void ZeroOverhead::build(const Scene& scene) {
   const auto start = std::chrono::steady_clock::now();
-  oracle_ = read_hits(oracle_path_);
+  if (!oracle_in_memory_) oracle_ = read_hits(oracle_path_);
   for (size_t i = 0; i < oracle_.size(); ++i) {
     const int32_t id = oracle_[i].id;
     if (id < -1 || (id >= 0 && size_t(id) >= scene.triangle_count()))
@@ -28,10 +32,10 @@ void ZeroOverhead::build(const Scene& scene) {
   build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-void ZeroOverhead::check_ray_count(size_t rays) const {
+void ZeroOverhead::check_ray_count(size_t rays, const std::string& what) const {
   if (oracle_.size() != rays)
-    fail_input(oracle_path_, "holds " + std::to_string(oracle_.size()) +
-                                 " hits, not one per ray (" + std::to_string(rays) + " rays)");
+    fail_input(oracle_path_, "holds " + std::to_string(oracle_.size()) + " hits, not one per " +
+                                 what + " (" + std::to_string(rays) + ")");
 }
 
 std::unique_ptr<ThreadContext> ZeroOverhead::make_context() const {
@@ -40,7 +44,9 @@ std::unique_ptr<ThreadContext> ZeroOverhead::make_context() const {
 
 Hit ZeroOverhead::intersect(const Ray& ray, ThreadContext& context) const {
   if (context.ray_index == ThreadContext::kNoRayIndex)
-    throw UsageError("structure 'zero' answers only `trace` (its oracle is keyed by ray index)");
+    throw UsageError(
+        "structure 'zero' answers only rays with a key (trace's ray index or a "
+        "render's ray key): its oracle is indexed by it");
   if (context.ray_index >= oracle_.size())
     fail_input(oracle_path_, "has no hit for ray " + std::to_string(context.ray_index));
   Hit hit;

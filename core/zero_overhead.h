@@ -3,12 +3,12 @@
 // hit (a miss tests nothing). No acceleration structure can do less work, so its time is
 // the floor the others are measured against.
 //
-// The oracle is keyed by the ray's position in the ray file, which intersect() reads from
-// ThreadContext::ray_index (run_trace sets it; see accelerator.h). A ray traced without an
-// index (a render, the viewer) is a UsageError rather than a silent wrong answer: keying
-// renders by (pixel, sample, bounce, kind) is not done yet. The test is brute's own (clip
-// box, prepared ray, watertight kernel), so on the rays brute answered it gives brute's
-// hits bit for bit.
+// The oracle is keyed by ThreadContext::ray_index: a ray's position in the ray file for
+// `trace`, the ray's key (render_ray_key: pixel, sample, bounce, kind) for a render, so a
+// recorded render (`render --record-hits`) replays exactly. A ray traced without a key is a
+// UsageError rather than a silent wrong answer. The test is brute's own (clip box,
+// prepared ray, watertight kernel), so on the rays brute answered it gives brute's hits
+// bit for bit.
 #pragma once
 #include <string>
 #include <vector>
@@ -22,9 +22,12 @@ class ZeroOverhead final : public Accelerator {
  public:
   // Throws UsageError when params.oracle_path is empty.
   explicit ZeroOverhead(const AccelParams& params);
+  // An oracle already in memory (the benchmark's own recorded run); oracle_path() is
+  // "(memory)".
+  explicit ZeroOverhead(std::vector<Hit> oracle);
   std::string name() const override { return "zero"; }
-  // Reads the oracle; throws InputError naming it when it cannot be read, is malformed or
-  // names a triangle the scene does not have.
+  // Reads the oracle (unless it is in memory); throws InputError naming it when it cannot
+  // be read, is malformed or names a triangle the scene does not have.
   void build(const Scene& scene) override;
   Box bounds() const override { return bounds_; }
   std::unique_ptr<ThreadContext> make_context() const override;
@@ -35,11 +38,13 @@ class ZeroOverhead final : public Accelerator {
 
   const std::string& oracle_path() const { return oracle_path_; }
   size_t oracle_size() const { return oracle_.size(); }
-  // Throws InputError naming the oracle unless it holds exactly `rays` hits.
-  void check_ray_count(size_t rays) const;
+  // Throws InputError naming the oracle unless it holds exactly `rays` hits, one per `what`
+  // (a ray, or a render's ray key). Call after build().
+  void check_ray_count(size_t rays, const std::string& what = "ray") const;
 
  private:
   std::string oracle_path_;
+  bool oracle_in_memory_ = false;
   std::vector<Hit> oracle_;
   std::vector<TriangleVerts> triangles_;
   Box bounds_;

@@ -4,7 +4,8 @@
 set -eu
 packages="cmake ninja-build g++ pkg-config zlib1g-dev libglm-dev libtinyobjloader-dev libstb-dev
 nlohmann-json3-dev libgtest-dev libbenchmark-dev libembree-dev libtbb-dev
-libglfw3-dev libimgui-dev libosmesa6-dev python3-glad xvfb xauth"
+libglfw3-dev libimgui-dev libosmesa6-dev python3-glad xvfb xauth
+clang libclang-rt-14-dev"
 missing=""
 for p in $packages; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed" || missing="$missing $p"

@@ -313,9 +313,40 @@ TEST(Cli, UsageErrorsExitTwo) {
         "eye=0,0,1e39;target=0,0,0;up=0,1,0;fov=45",
         "eye=0,0,1;target=0,0,0;up=0,1,0;fov=45;zoom=2"})
     expect_failure(run(render + " --camera " + quoted(camera)), 2, "--camera");
-  for (const char* later : {"bench", "calibrate"})
-    expect_failure(run(later), 2,
-                   std::string("'") + later + "' is not available in this build yet");
+  expect_failure(run("bench --accels bvh,kd-tree"), 2, "kd-tree");
+  expect_failure(run("bench --scenes lumpy,"), 2, "--scenes");
+  expect_failure(run("bench --threads 0"), 2, "--threads");
+  expect_failure(run("bench builtin:lumpy"), 2, "builtin:lumpy");
+  expect_failure(run("calibrate --seed x"), 2, "--seed");
+  expect_failure(run("calibrate --budget 5"), 2, "--budget");
+}
+
+TEST(Cli, BenchOutputDirectoryThatCannotBeMadeExitsOne) {
+  // A regular file where the directory should go: refused before anything is measured.
+  const std::string file = temp_path("bench-out-file");
+  { std::ofstream(file) << "x"; }
+  const Outcome result = run("bench --quick --accels bvh --out " + quoted(file + "/sub"));
+  expect_failure(result, 1, file);
+}
+
+TEST(Cli, CostsFileSetsTheFiveConstantsAndLaterFlagsWin) {
+  const std::string costs = temp_path("costs.json"), stats = temp_path("costs-stats.json");
+  {
+    std::ofstream(costs) << R"({"intcost": 2, "repcost": 0.5, "travcost": 3, "vertcost": 4,)"
+                         << R"( "subcost": 5, "detail": {}})";
+  }
+  const Outcome result = run("render builtin:pyramid --size 8x8 --out " +
+                             quoted(temp_path("costs.png")) + " --costs " + quoted(costs) +
+                             " --travcost 7 --stats " + quoted(stats));
+  ASSERT_EQ(result.status, 0) << result.err;
+  const nlohmann::json parameters = nlohmann::json::parse(slurp(stats))["parameters"];
+  EXPECT_EQ(parameters["intcost"], 2.0);
+  EXPECT_EQ(parameters["repcost"], 0.5);
+  EXPECT_EQ(parameters["travcost"], 7.0);
+  EXPECT_EQ(parameters["vertcost"], 4.0);
+  EXPECT_EQ(parameters["subcost"], 5.0);
+  { std::ofstream(costs) << R"({"intcost": 2})"; }
+  expect_failure(run("render builtin:pyramid --out x.png --costs " + quoted(costs)), 1, costs);
 }
 
 TEST(Cli, HelpExitsZero) {

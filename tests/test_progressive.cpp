@@ -42,12 +42,20 @@ ViewSetup setup_for(const Camera& camera, int max_spp, int width = kW, int heigh
   return setup;
 }
 
+// A kW x kH image with spp samples per pixel on `threads` threads.
+RenderSettings settings(int spp, int threads = 2) {
+  RenderSettings settings;
+  settings.width = kW, settings.height = kH, settings.spp = spp, settings.threads = threads;
+  return settings;
+}
+
 // render_image on its own Grid1D, built and sampled as `render` does.
-RenderOutcome reference(const Camera& camera, int spp) {
-  Grid1D grid{AccelParams{}};
-  grid.build(*pyramid());
-  sample_image(grid, camera, RenderSettings{kW, kH, 1, 2});
-  return render_image(*pyramid(), grid, camera, RenderSettings{kW, kH, spp, 2});
+RenderOutcome reference(const Camera& camera, int spp, const Scene& scene = *pyramid(),
+                        const AccelParams& params = {}) {
+  Grid1D grid{params};
+  grid.build(scene);
+  sample_image(grid, camera, settings(1));
+  return render_image(scene, grid, camera, settings(spp));
 }
 
 // Takes every frame it can until one of generation `generation` satisfies `done` (returned
@@ -240,7 +248,7 @@ TEST(Progressive, RecordWalkIsTheWalkOfTheImagesStructure) {
   const Camera camera = first_camera();
   Grid1D grid{AccelParams{}};
   grid.build(*pyramid());
-  sample_image(grid, camera, RenderSettings{kW, kH, 1, 1});
+  sample_image(grid, camera, settings(1, 1));
   const std::unique_ptr<ThreadContext> context = grid.make_context();
 
   ProgressiveRenderer renderer;
@@ -325,6 +333,92 @@ TEST(Progressive, StructureVisitsPauseTheWorkers) {
   const ProgressiveFrame after = frame_at(renderer, 1, later.pass + 2);
   EXPECT_GT(after.spp, later.spp);
   EXPECT_TRUE(renderer.busy());
+}
+
+TEST(Progressive, ZeroSizeRendersNothingAndRestoringRendersAgain) {
+  ProgressiveRenderer renderer;
+  renderer.restart(setup_for(first_camera(), 1));
+  frame_at(renderer, 1, 2);
+  // A minimised window: generation 2 has nothing to render, so no frame and no walk.
+  renderer.restart(setup_for(first_camera(), 1, 0, 0));
+  const auto deadline = std::chrono::steady_clock::now() + kTimeout;
+  while (renderer.busy() && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  EXPECT_FALSE(renderer.busy());
+  EXPECT_TRUE(renderer.structure_ready());
+  EXPECT_FALSE(renderer.take_frame(2, 0).has_value());
+  EXPECT_FALSE(renderer.record_walk(0, 0).has_value());
+  // Restored: the same structure, the same image.
+  renderer.restart(setup_for(first_camera(), 1));
+  expect_same_image(frame_at(renderer, 3, 2), reference(first_camera(), 1));
+}
+
+// Parameters changed while a structure is being built (the viewer's Apply during a build):
+// the old structure is dropped without a race, and the frames are the new structure's. The
+// new one has a memory budget so small that some voxels stay leaves, which the frame shows.
+TEST(Progressive, NewParametersDuringTheBuildTakeEffect) {
+  const auto lumpy = std::make_shared<const Scene>(load_scene("builtin:lumpy"));
+  const Camera camera = frame_box(lumpy->bounds(), float(kW) / float(kH));
+  ViewSetup roomy = setup_for(camera, 1);
+  roomy.scene = lumpy;
+  ViewSetup tight = roomy;
+  tight.params.memory_budget = uint64_t{1} << 20;
+  const RenderOutcome expected = reference(camera, 1, *lumpy, tight.params);
+  ProgressiveRenderer renderer;
+  uint64_t generation = 0;
+  // The change comes at once, and after the build has had some time to start.
+  for (const int delay_ms : {0, 1, 10, 50}) {
+    renderer.restart(roomy);
+    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
+    renderer.with_structure_paused([](const Accelerator&) {});
+    renderer.restart(tight);
+    generation += 2;
+    const std::optional<Walk> walk = renderer.record_walk(kW / 2, kH / 2);
+    EXPECT_TRUE(walk.has_value());
+    const ProgressiveFrame frame = frame_at(renderer, generation, 2);
+    EXPECT_TRUE(frame.error.empty()) << frame.error;
+    EXPECT_GT(frame.structure.voxels_over_budget, 0u) << "delay " << delay_ms;
+    expect_same_image(frame, expected);
+  }
+}
+
+TEST(SceneLoader, ReportsAFailedLoadAndKeepsTheNewestRequest) {
+  SceneLoader loader;
+  EXPECT_FALSE(loader.pending().has_value());
+  EXPECT_FALSE(loader.take().has_value());
+  const auto wait_for_result = [&loader] {
+    const auto deadline = std::chrono::steady_clock::now() + kTimeout;
+    while (std::chrono::steady_clock::now() < deadline) {
+      if (std::optional<SceneLoader::Result> result = loader.take()) return result;
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    ADD_FAILURE() << "no load finished in time";
+    return std::optional<SceneLoader::Result>();
+  };
+
+  loader.load("/nonexistent/scene.obj");
+  EXPECT_EQ(loader.pending(), "/nonexistent/scene.obj");
+  const std::optional<SceneLoader::Result> failed = wait_for_result();
+  ASSERT_TRUE(failed.has_value());
+  EXPECT_EQ(failed->scene, nullptr);
+  EXPECT_NE(failed->error.find("/nonexistent/scene.obj"), std::string::npos) << failed->error;
+  EXPECT_EQ(failed->error.find('\n'), std::string::npos);
+  EXPECT_FALSE(loader.pending().has_value());
+  EXPECT_FALSE(loader.take().has_value());  // handed out once
+
+  // A second request supersedes the first: only the newest one's result comes out.
+  loader.load("builtin:lumpy");
+  loader.load("builtin:pyramid");
+  EXPECT_EQ(loader.pending(), "builtin:pyramid");
+  const std::optional<SceneLoader::Result> loaded = wait_for_result();
+  ASSERT_TRUE(loaded.has_value());
+  EXPECT_EQ(loaded->spec, "builtin:pyramid");
+  EXPECT_TRUE(loaded->error.empty()) << loaded->error;
+  ASSERT_NE(loaded->scene, nullptr);
+  EXPECT_EQ(loaded->scene->triangle_count(), pyramid()->triangle_count());
+  EXPECT_FALSE(loader.take().has_value());
+
+  loader.load("builtin:sphereflake");  // destroyed while loading: waits, then returns
 }
 
 }  // namespace

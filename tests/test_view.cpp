@@ -1,10 +1,16 @@
 // `gridscope view` (DESIGN.md §3) driven by its script flags under Xvfb, as CI would: it
 // exits by itself, the screenshot is the window, and the walk a scripted click records is
 // the one `trace --walk` records for the same pixel's ray (same sampling pass, same cuts).
+// Scripted abuse (issue 5): no display, no GL 3.3 context, minimising and restoring, a bad
+// file opened from the UI, parameters changed and the window closed during a build; the
+// viewport shown at the end is compared with `render` of the view --stats reports.
 // Skips with a message when xvfb-run is not installed.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -25,7 +31,20 @@ Outcome run(const std::string& args, const std::string& prefix = "") {
 
 bool have_xvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 0; }
 
-const std::string kXvfb = "xvfb-run -a -s '-screen 0 1280x800x24'";
+// Runs `env ENV gridscope args` in a fresh Xvfb display. The status is the program's, kept in
+// a file by a shell inside the display: xvfb-run's own is 5 when its clean-up trips over a
+// program that exits at once.
+Outcome run_in_xvfb(const std::string& args, const std::string& env = "") {
+  const std::string status_path = temp_path("xvfb_status.txt");
+  std::remove(status_path.c_str());
+  Outcome outcome =
+      run(args, "env " + env +
+                    " xvfb-run -a -s '-screen 0 1280x800x24' sh -c '\"$0\" \"$@\"; echo $? >" +
+                    status_path + "'");
+  const std::string status = slurp(status_path);
+  outcome.status = status.empty() ? -1 : std::stoi(status);
+  return outcome;
+}
 
 nlohmann::json read_json(const std::string& path) {
   const std::string text = slurp(path);
@@ -65,9 +84,8 @@ TEST(View, ScriptedClickRecordsTheWalkTraceRecords) {
   if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed: the viewer needs a display";
   const std::string walk_path = temp_path("view_walk.json"), shot = temp_path("view_shot.png");
   const Outcome view =
-      run("view builtin:pyramid --size 800x600 --frames 10 --click 0.5,0.5 --walk-out '" +
-              walk_path + "' --screenshot '" + shot + "'",
-          kXvfb);
+      run_in_xvfb("view builtin:pyramid --size 800x600 --frames 10 --click 0.5,0.5 --walk-out '" +
+                  walk_path + "' --screenshot '" + shot + "'");
   ASSERT_EQ(view.status, 0) << view.err;
 
   const PngFacts png = png_facts(shot);
@@ -102,6 +120,155 @@ TEST(View, ScriptedClickRecordsTheWalkTraceRecords) {
           size + " --walk " + std::to_string(y * width + x) + " --walk-out '" + traced_path + "'");
   ASSERT_EQ(traced.status, 0) << traced.err;
   expect_same_cells(walk, read_json(traced_path));
+}
+
+// A script file holding `text`.
+std::string script_file(const std::string& name, const std::string& text) {
+  const std::string path = temp_path(name);
+  std::ofstream(path) << text;
+  return path;
+}
+
+// The viewport (the top-left WxH of the window, W and H from --stats) holds exactly the image
+// `render` gives for the view --stats reports (its camera and samples per pixel).
+void expect_viewport_is_render(const std::string& window_png, const nlohmann::json& stats,
+                               const std::string& structure_flags = "") {
+  ASSERT_TRUE(stats.contains("view")) << stats.dump();
+  const nlohmann::json& view = stats["view"];
+  ASSERT_TRUE(view.at("current").get<bool>()) << "the last frame is not of the current view";
+  const int width = view.at("width"), height = view.at("height");
+  const std::string expected_png = temp_path("view_expected.png");
+  const Outcome rendered =
+      run("render '" + stats.at("scene").get<std::string>() + "' --size " + std::to_string(width) +
+          "x" + std::to_string(height) + " --camera '" + view.at("camera").get<std::string>() +
+          "' --spp " + std::to_string(std::max(view.at("spp").get<int>(), 1)) + " --out '" +
+          expected_png + "' " + structure_flags);
+  ASSERT_EQ(rendered.status, 0) << rendered.err;
+  const gs::test::Png window = gs::test::load_png(window_png);
+  const gs::test::Png expected = gs::test::load_png(expected_png);
+  ASSERT_GE(window.width, width);
+  ASSERT_GE(window.height, height);
+  ASSERT_EQ(expected.width, width);
+  int differing = 0;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      for (int c = 0; c < 3; ++c) differing += window.at(x, y)[c] != expected.at(x, y)[c];
+  EXPECT_EQ(differing, 0) << "of " << width << "x" << height << " pixels' channels";
+}
+
+TEST(View, NoDisplayExitsOneNamingTheProblem) {
+  const Outcome result =
+      run("view builtin:pyramid --frames 1", "env -u DISPLAY -u WAYLAND_DISPLAY");
+  EXPECT_EQ(result.status, 1);
+  EXPECT_NE(result.err.find("OpenGL: could not open a window"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("DISPLAY"), std::string::npos) << result.err;
+}
+
+TEST(View, NoOpenGL33ContextExitsOne) {
+  if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed: the viewer needs a display";
+  // Mesa then offers at most OpenGL 3.0: GLX cannot make the 3.3 core context asked for.
+  const Outcome result =
+      run_in_xvfb("view builtin:pyramid --frames 1", "MESA_GL_VERSION_OVERRIDE=3.0");
+  EXPECT_EQ(result.status, 1);
+  // One line of ours (xvfb-run may add its own).
+  const size_t line = result.err.find("gridscope: OpenGL: could not open a window (");
+  EXPECT_NE(line, std::string::npos) << result.err;
+  EXPECT_EQ(result.err.find("gridscope", line + 1), std::string::npos) << result.err;
+}
+
+TEST(View, MinimisedThenRestoredAtAnotherSizeShowsThatView) {
+  if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed: the viewer needs a display";
+  const std::string script = script_file("resize.txt",
+                                         "# minimised for a while, then back at another size\n"
+                                         "frame 3: resize 0x0\nframe 9: resize 900x640\n");
+  const std::string shot = temp_path("resized.png"), stats = temp_path("resized.json");
+  const Outcome view =
+      run_in_xvfb("view builtin:pyramid --size 800x600 --frames 15 --script '" + script +
+                  "' --screenshot '" + shot + "' --stats '" + stats + "'");
+  ASSERT_EQ(view.status, 0) << view.err;
+  const PngFacts png = png_facts(shot);
+  EXPECT_EQ(png.width, 900);
+  EXPECT_EQ(png.height, 640);
+  const nlohmann::json figures = read_json(stats);
+  expect_viewport_is_render(shot, figures);
+  // The viewport followed the window: an 800-wide window's is 500 wide (the panel takes 300).
+  EXPECT_GT(figures["view"]["width"].get<int>(), 500);
+}
+
+TEST(View, ABadFileOpenedFromTheUiIsReportedAndTheSceneKept) {
+  if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed: the viewer needs a display";
+  const std::string missing = "/nonexistent/missing.obj";
+  const std::string script = script_file("open_bad.txt", "frame 2: open " + missing + "\n");
+  const std::string shot = temp_path("open_bad.png"), stats = temp_path("open_bad.json");
+  const Outcome view =
+      run_in_xvfb("view builtin:pyramid --size 640x480 --frames 5 --script '" + script +
+                  "' --screenshot '" + shot + "' --stats '" + stats + "'");
+  ASSERT_EQ(view.status, 0) << view.err;
+  EXPECT_NE(view.err.find(missing), std::string::npos) << view.err;
+  const nlohmann::json figures = read_json(stats);
+  EXPECT_NE(figures.at("status").get<std::string>().find(missing), std::string::npos);
+  EXPECT_EQ(figures.at("scene"), "builtin:pyramid");
+  expect_viewport_is_render(shot, figures);
+}
+
+TEST(View, ASecondOpenSupersedesTheFirst) {
+  if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed: the viewer needs a display";
+  const std::string script = script_file(
+      "open_twice.txt", "frame 2: open /nonexistent/first.obj\nframe 2: open builtin:lumpy\n");
+  const std::string shot = temp_path("open_twice.png"), stats = temp_path("open_twice.json");
+  const Outcome view =
+      run_in_xvfb("view builtin:pyramid --size 640x480 --frames 3 --script '" + script +
+                  "' --screenshot '" + shot + "' --stats '" + stats + "'");
+  ASSERT_EQ(view.status, 0) << view.err;
+  EXPECT_EQ(view.err.find("first.obj"), std::string::npos) << view.err;
+  const nlohmann::json figures = read_json(stats);
+  EXPECT_EQ(figures.at("scene"), "builtin:lumpy");
+  EXPECT_EQ(figures.at("status"), "");
+  expect_viewport_is_render(shot, figures);
+}
+
+TEST(View, ParametersChangedDuringTheBuildAreTheFinalFramesOnes) {
+  if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed: the viewer needs a display";
+  // Frame 1 starts building sphereflake's structure; frame 2 changes it while it is built.
+  const std::string script =
+      script_file("set.txt", "frame 2: set max-granularity 8\nframe 2: set memory-budget 8M\n");
+  const std::string shot = temp_path("set.png"), stats = temp_path("set.json");
+  const Outcome view =
+      run_in_xvfb("view builtin:sphereflake --size 640x480 --frames 4 --script '" + script +
+                  "' --screenshot '" + shot + "' --stats '" + stats + "'");
+  ASSERT_EQ(view.status, 0) << view.err;
+  const nlohmann::json figures = read_json(stats);
+  EXPECT_EQ(figures.at("parameters").at("max_granularity"), 8);
+  EXPECT_EQ(figures.at("parameters").at("memory_budget"), 8u << 20);
+  EXPECT_GT(figures.at("voxels_over_budget").get<uint64_t>(), 0u);  // the budget bit
+  expect_viewport_is_render(shot, figures, "--max-granularity 8 --memory-budget 8M");
+}
+
+TEST(View, ClosingDuringABigBuildExitsZero) {
+  if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed: the viewer needs a display";
+  // Cutting voxels into up to 4096 cells makes sphereflake's build take seconds; the window
+  // closes a frame after it starts, long before the first full-resolution pass.
+  const std::string script = script_file("close.txt", "frame 2: close\n");
+  const std::string stats = temp_path("close.json");
+  const Outcome view = run_in_xvfb("view builtin:sphereflake --max-granularity 4096 --script '" +
+                                   script + "' --stats '" + stats + "'");
+  ASSERT_EQ(view.status, 0) << view.err;
+  EXPECT_LT(read_json(stats).at("view").at("pass").get<int>(), 2);
+}
+
+TEST(View, BadScriptsExitOneNamingTheLine) {
+  const Outcome missing = run("view builtin:pyramid --script /nonexistent/script.txt");
+  EXPECT_EQ(missing.status, 1);
+  EXPECT_NE(missing.err.find("/nonexistent/script.txt"), std::string::npos) << missing.err;
+  for (const std::string line :
+       {"frame 0: close", "frame 2 close", "frame 2: jump", "frame 2: resize 0x5",
+        "frame 2: resize 10x99999", "frame 2: set max-granularity 0", "frame 2: set colour red",
+        "frame 2: set accel nothing", "frame 2: open", "frame two: close"}) {
+    const std::string script = script_file("bad_script.txt", "# fine\n\n" + line + "\n");
+    const Outcome bad = run("view builtin:pyramid --script '" + script + "'");
+    EXPECT_EQ(bad.status, 1) << line;
+    EXPECT_NE(bad.err.find(script + ":3: "), std::string::npos) << line << ": " << bad.err;
+  }
 }
 
 TEST(View, MissingSceneExitsOneNamingIt) {

@@ -44,26 +44,29 @@ Window::Window(int width, int height, const std::string& title) {
   glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
   glfwWindowHint(GLFW_DEPTH_BITS, 24);
   window_ = glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);
-  if (!window_) {
+  // Whatever fails from here, what was made so far is undone before the error line.
+  const auto fail = [this](const std::string& fallback) {
+    if (window_) glfwDestroyWindow(window_);
     glfwTerminate();
-    no_window("no OpenGL 3.3 core context");
-  }
+    no_window(fallback);
+  };
+  if (!window_) fail("no OpenGL 3.3 core context");
   glfwMakeContextCurrent(window_);
   glfwSwapInterval(1);
   const int version = gladLoadGL(glfw_proc);
-  if (version == 0 || GLAD_VERSION_MAJOR(version) * 10 + GLAD_VERSION_MINOR(version) < 33) {
-    glfwDestroyWindow(window_);
-    glfwTerminate();
-    no_window("OpenGL 3.3 functions missing");
-  }
+  if (version == 0 || GLAD_VERSION_MAJOR(version) * 10 + GLAD_VERSION_MINOR(version) < 33)
+    fail("OpenGL 3.3 functions missing");
   ImGui::CreateContext();
   ImGui::GetIO().IniFilename = nullptr;  // the layout is placed in code each frame
   ImGui::GetIO().LogFilename = nullptr;
-  imgui_backend_ = ImGui_ImplGlfw_InitForOpenGL(window_, true);
+  if (!ImGui_ImplGlfw_InitForOpenGL(window_, true)) {
+    ImGui::DestroyContext();
+    fail("ImGui's GLFW backend did not start");
+  }
 }
 
 Window::~Window() {
-  if (imgui_backend_) ImGui_ImplGlfw_Shutdown();
+  ImGui_ImplGlfw_Shutdown();
   ImGui::DestroyContext();
   glfwDestroyWindow(window_);
   glfwTerminate();
@@ -71,10 +74,15 @@ Window::~Window() {
 
 bool Window::should_close() const { return glfwWindowShouldClose(window_); }
 
-void Window::begin_frame() {
-  glfwPollEvents();
-  ImGui_ImplGlfw_NewFrame();
-}
+void Window::close() { glfwSetWindowShouldClose(window_, GLFW_TRUE); }
+
+void Window::hide() { glfwHideWindow(window_); }
+
+void Window::poll_events() { glfwPollEvents(); }
+
+void Window::wait_events(double seconds) { glfwWaitEventsTimeout(seconds); }
+
+void Window::begin_frame() { ImGui_ImplGlfw_NewFrame(); }
 
 void Window::swap() { glfwSwapBuffers(window_); }
 
@@ -82,6 +90,23 @@ glm::ivec2 Window::framebuffer_size() const {
   glm::ivec2 size(0);
   glfwGetFramebufferSize(window_, &size.x, &size.y);
   return size;
+}
+
+bool Window::minimised() const {
+  const glm::ivec2 size = framebuffer_size();
+  return minimised_by_resize_ || glfwGetWindowAttrib(window_, GLFW_ICONIFIED) || size.x <= 0 ||
+         size.y <= 0;
+}
+
+void Window::resize(int width, int height) {
+  if (width <= 0 || height <= 0) {
+    glfwIconifyWindow(window_);
+    minimised_by_resize_ = true;
+    return;
+  }
+  if (minimised_by_resize_) glfwRestoreWindow(window_);
+  minimised_by_resize_ = false;
+  glfwSetWindowSize(window_, width, height);
 }
 
 }  // namespace gs::gl

@@ -22,15 +22,27 @@ class Window {
 
   GLFWwindow* handle() const { return window_; }
   bool should_close() const;
-  // Polls events and starts the backend's ImGui frame (call before ImGui::NewFrame).
+  void close();
+  // Takes the window off the screen at once (closing: the workers may take a moment to stop).
+  void hide();
+  void poll_events();
+  // Sleeps until an event comes or `seconds` pass: a minimised window has nothing to draw.
+  void wait_events(double seconds);
+  // Starts the backend's ImGui frame (call before ImGui::NewFrame).
   void begin_frame();
   void swap();
   // Framebuffer size in pixels (what glViewport and glReadPixels count).
   glm::ivec2 framebuffer_size() const;
+  // Nothing to draw into: iconified, a 0x0 framebuffer, or resize(0, 0).
+  bool minimised() const;
+  // Scripted resizing. 0x0 iconifies the window; without a window manager (Xvfb) nothing
+  // iconifies it and X cannot size a window to 0, so the window also counts as minimised
+  // until the next resize, which restores it.
+  void resize(int width, int height);
 
  private:
   GLFWwindow* window_ = nullptr;
-  bool imgui_backend_ = false;
+  bool minimised_by_resize_ = false;
 };
 
 }  // namespace gs::gl

@@ -1,0 +1,46 @@
+#include "app/bench_job.h"
+
+#include <cstdio>
+#include <filesystem>
+
+#include "app/plot.h"
+#include "core/bench_report.h"
+#include "core/error.h"
+#include "core/ray_io.h"
+#include "core/trace_run.h"
+
+namespace gs::app {
+
+namespace {
+
+nlohmann::json read_results(const std::string& path) {
+  const std::vector<char> bytes = read_file(path);
+  nlohmann::json records = nlohmann::json::parse(bytes.begin(), bytes.end(), nullptr, false);
+  if (!records.is_array()) fail_input(path, "is not a bench results.json (a JSON array)");
+  return records;
+}
+
+}  // namespace
+
+void run_bench_job(const BenchJob& job) {
+  check_bench_options(job.options);
+  std::error_code error;
+  std::filesystem::create_directories(job.out_dir, error);
+  if (error || !std::filesystem::is_directory(job.out_dir))
+    fail_input(job.out_dir, "cannot create the output directory");
+  BenchOptions options = job.options;
+  options.image_dir = job.out_dir;
+  options.progress = [](const std::string& line) {
+    std::fprintf(stderr, "bench: %s\n", line.c_str());
+  };
+  const std::string dir = job.out_dir + "/";
+  const nlohmann::json records =
+      job.from_path.empty() ? run_bench(options) : read_results(job.from_path);
+  if (job.from_path.empty()) write_json(dir + "results.json", records);
+  const std::vector<std::string> plots = write_bench_plots(records, job.out_dir);
+  const std::string report = bench_report_markdown(records, plots);
+  write_file(dir + "report.md", std::vector<char>(report.begin(), report.end()));
+  std::printf("%sreport.md\n", dir.c_str());
+}
+
+}  // namespace gs::app

@@ -1,0 +1,21 @@
+// The `bench` command's outputs (issue 4): runs core/bench.h's protocol and writes
+// results.json, report.md and the PNG plots into one directory.
+#pragma once
+#include <string>
+
+#include "core/bench.h"
+
+namespace gs::app {
+
+struct BenchJob {
+  BenchOptions options;
+  std::string out_dir = "bench-out";
+  // With a path: no measuring; report.md and the plots are made again from that results.json.
+  std::string from_path;
+};
+
+// Throws UsageError for bad options before measuring, InputError naming the directory or file
+// that cannot be written.
+void run_bench_job(const BenchJob& job);
+
+}  // namespace gs::app

@@ -1,0 +1,148 @@
+// The benchmark driver (core/bench.h): the records it writes hold the protocol's figures,
+// and those figures agree with answers computed independently here.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/bench.h"
+#include "core/bench_scenes.h"
+#include "core/error.h"
+#include "core/render.h"
+#include "tests/test_util.h"
+
+namespace gs {
+namespace {
+
+using nlohmann::json;
+
+TEST(BenchRmse, ClosedForm) {
+  // Two 2-pixel images: channel differences 3, 4, 0 and 0, 0, 12 (alpha ignored):
+  // sqrt((9 + 16 + 144) / 6).
+  const std::vector<uint8_t> a = {10, 20, 30, 255, 0, 0, 0, 255};
+  const std::vector<uint8_t> b = {13, 16, 30, 0, 0, 0, 12, 7};
+  EXPECT_DOUBLE_EQ(image_rmse(a, b), std::sqrt(169.0 / 6.0));
+  EXPECT_DOUBLE_EQ(image_rmse(a, a), 0.0);
+  EXPECT_THROW(image_rmse(a, {1, 2, 3, 4}), std::invalid_argument);
+}
+
+TEST(BenchOptions, UnknownStructureIsAUsageError) {
+  BenchOptions options;
+  options.accels = {"bvh", "kd-tree"};
+  EXPECT_THROW(check_bench_options(options), UsageError);
+  options.accels = {"zero"};  // measured always, as the floor: not a structure to ask for
+  EXPECT_THROW(check_bench_options(options), UsageError);
+}
+
+TEST(BenchScenes, SuiteSceneWithoutSharedMeshesIsSkippedWithTheReason) {
+  std::string why;
+  EXPECT_FALSE(load_bench_scene("dragon", "/nonexistent-shared", why));
+  EXPECT_NE(why.find("dragon"), std::string::npos) << why;
+  EXPECT_THROW(load_bench_scene("/nonexistent/scene.obj", "", why), InputError);
+  const auto lumpy = load_bench_scene("lumpy", "", why);
+  ASSERT_TRUE(lumpy);
+  EXPECT_EQ(lumpy->role, "lumpy");
+  EXPECT_EQ(lumpy->scene->triangle_count(), 60620u);
+}
+
+// A small closed sphere bench, quick protocol, two exact structures and 2 threads.
+class BenchRunTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    path_ = new std::string(test::temp_path("bench-sphere.obj"));
+    export_obj(test::make_sphere({0.0f, 0.0f, 0.0f}, 1.0f, 12, 16), *path_);
+    BenchOptions options;
+    options.scenes = {*path_, "dragon"};
+    options.accels = {"bvh", "uniform"};
+    options.quick = true;
+    options.threads = 2;
+    options.shared_dir = "/nonexistent-shared";
+    records_ = new json(run_bench(options));
+  }
+  static void TearDownTestSuite() {
+    delete records_;
+    delete path_;
+  }
+
+  static std::vector<json> select(const std::string& workload, const std::string& accel = "") {
+    std::vector<json> found;
+    for (const json& r : *records_)
+      if (r["workload"] == workload && (accel.empty() || r["accel"] == accel)) found.push_back(r);
+    return found;
+  }
+
+  static std::string* path_;
+  static json* records_;
+};
+std::string* BenchRunTest::path_ = nullptr;
+json* BenchRunTest::records_ = nullptr;
+
+TEST_F(BenchRunTest, MissingSharedSceneIsASkippedRecord) {
+  const auto skipped = select("skipped");
+  ASSERT_EQ(skipped.size(), 1u);
+  EXPECT_EQ(skipped[0]["scene"], "dragon");
+}
+
+TEST_F(BenchRunTest, EveryStructureThreadCountAndWorkloadIsMeasured) {
+  for (const char* workload : {"primary_shadow", "diffuse"})
+    for (const char* accel : {"zero", "bvh", "uniform"}) {
+      const auto records = select(workload, accel);
+      std::vector<int> threads;
+      for (const json& r : records)
+        if (r["setting"] == "default") threads.push_back(r["threads"].get<int>());
+      EXPECT_EQ(threads, (std::vector<int>{1, 2})) << workload << " " << accel;
+    }
+}
+
+TEST_F(BenchRunTest, RayCountsMatchAnIndependentRender) {
+  const Scene scene = load_scene(*path_);
+  for (const json& r : select("primary_shadow")) {
+    if (r["setting"] != "default") continue;
+    RenderSettings settings;
+    settings.width = r["width"];
+    settings.height = r["height"];
+    settings.bounces = 0;
+    auto brute = make_accelerator("brute", AccelParams{});
+    brute->build(scene);
+    const RenderOutcome expected =
+        render_image(scene, *brute, parse_camera(r["camera"].get<std::string>()), settings);
+    EXPECT_EQ(r["rays"].get<uint64_t>(), expected.rays) << r["accel"];
+  }
+}
+
+TEST_F(BenchRunTest, ExactStructuresAgreeWithTheReferenceAndZeroIsTheFloor) {
+  for (const char* workload : {"primary_shadow", "diffuse"})
+    for (const json& r : select(workload)) {
+      EXPECT_EQ(r["disagreeing_rays"], 0) << workload << " " << r["accel"];
+      EXPECT_EQ(r["image_rmse"], 0.0) << workload << " " << r["accel"];
+      EXPECT_EQ(r["reference"], "bvh");
+      if (r["accel"] == "zero") {
+        EXPECT_EQ(r["relative_to_zero"], 1.0);
+        // The oracle tests at most one triangle per ray.
+        EXPECT_LE(r["tests_per_ray"].get<double>(), 1.0);
+      }
+      EXPECT_EQ(r["warm_seconds"].size(), size_t(r["repetitions"].get<int>()));
+    }
+}
+
+TEST_F(BenchRunTest, SweepsCoverEveryValueAndTheBestIsMeasuredInFull) {
+  EXPECT_EQ(select("sweep", "uniform").size(), 7u);  // density 1/8 .. 8
+  EXPECT_EQ(select("sweep", "bvh").size(), 5u);      // leaf size 1 .. 16
+  for (const char* accel : {"bvh", "uniform"}) {
+    size_t best = 0;
+    for (const json& r : select("primary_shadow", accel)) best += r["setting"] == "best";
+    EXPECT_EQ(best, 1u) << accel;
+  }
+}
+
+TEST_F(BenchRunTest, ConvergenceEndsAtZeroErrorForExactStructures) {
+  const auto curves = select("convergence");
+  ASSERT_EQ(curves.size(), 2u);
+  for (const json& curve : curves) {
+    ASSERT_FALSE(curve["points"].empty()) << curve["accel"];
+    // The last pass completes the converged image's samples: the same image exactly.
+    EXPECT_EQ(curve["points"].back()[1], 0.0) << curve["accel"];
+  }
+}
+
+}  // namespace
+}  // namespace gs

@@ -1,0 +1,213 @@
+// Calibration of the §6.2 code timings: the fit against closed-form data, the file format
+// and its errors, and a short real run (no timing thresholds: only that it measures).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+
+#include "core/calibrate.h"
+#include "core/error.h"
+#include "core/trace_run.h"
+#include "tests/test_util.h"
+
+namespace gs {
+namespace {
+
+using json = nlohmann::json;
+
+// Seconds per unit of each term, chosen unlike the defaults' ratios.
+struct KnownCosts {
+  double ray = 40e-9, test = 20e-9, rejection = 3e-9, step = 8e-9, descent = 15e-9;
+  double seconds_of(const WorkSample& row) const {
+    return ray + test * row.tests + rejection * row.rejections + step * row.steps +
+           descent * row.descents;
+  }
+};
+
+// Counts shaped like the calibration's scenarios (leaves, walks, slivers, descents), and
+// their exact times under `costs`.
+std::vector<WorkSample> exact_rows(const KnownCosts& costs, bool with_rejections = true) {
+  std::vector<WorkSample> rows = {
+      {"leaf 8", 100, 8, 0, 0, 0},         {"leaf 512", 100, 512, 0, 0, 0},
+      {"walk 16", 100, 9, 0, 15, 1},       {"walk 256", 100, 129, 0, 255, 1},
+      {"slivers 16", 100, 48, 496, 31, 1}, {"slivers 64", 100, 96, 1920, 30, 1},
+      {"descents 3", 100, 1, 0, 0.01, 3},  {"descents 12", 100, 1, 0, 0.02, 12},
+  };
+  for (WorkSample& row : rows) {
+    if (!with_rejections) row.rejections = 0;
+    row.seconds = costs.seconds_of(row);
+  }
+  return rows;
+}
+
+const std::vector<BuildSample> kBuilds = {{"a", 1000, 1000 * 50e-9}, {"b", 3000, 3000 * 50e-9}};
+
+TEST(Calibrate, FitRecoversKnownCosts) {
+  const KnownCosts costs;
+  const CostFit fit = fit_costs(exact_rows(costs));
+  const double expected[kFitTerms] = {costs.ray, costs.test, costs.rejection, costs.step,
+                                      costs.descent};
+  for (int t = 0; t < kFitTerms; ++t) {
+    EXPECT_TRUE(fit.fitted[t]) << t;
+    EXPECT_NEAR(fit.seconds[t], expected[t], 1e-9 * expected[t]) << t;
+    EXPECT_LE(fit.standard_error[t], 1e-6 * expected[t]) << t;
+  }
+  EXPECT_LT(fit.rms_relative_residual, 1e-9);
+}
+
+TEST(Calibrate, ConstantsAreRelativeToIntcost) {
+  const Calibration calibration = calibration_from_measurements(exact_rows(KnownCosts{}), kBuilds);
+  EXPECT_DOUBLE_EQ(calibration.intcost, 1.0);
+  EXPECT_NEAR(calibration.repcost, 3.0 / 20.0, 1e-9);
+  EXPECT_NEAR(calibration.travcost, 8.0 / 20.0, 1e-9);
+  EXPECT_NEAR(calibration.vertcost, 15.0 / 20.0, 1e-9);
+  EXPECT_NEAR(calibration.subcost, 50.0 / 20.0, 1e-9);
+  EXPECT_NEAR(calibration.nanoseconds_per_unit, 20.0, 1e-9);
+  EXPECT_TRUE(calibration.detail.at("unidentified").empty());
+  EXPECT_NEAR(calibration.detail.at("per_ray_nanoseconds").get<double>(), 40.0, 1e-6);
+}
+
+TEST(Calibrate, UnmeasuredConstantKeepsItsDefaultAndSaysWhy) {
+  const AccelParams defaults;
+  // No rejections anywhere: repcost cannot be measured.
+  Calibration calibration = calibration_from_measurements(exact_rows(KnownCosts{}, false), kBuilds);
+  EXPECT_EQ(calibration.repcost, defaults.repcost);
+  EXPECT_TRUE(calibration.detail.at("unidentified").contains("repcost"));
+  EXPECT_NEAR(calibration.travcost, 8.0 / 20.0, 1e-9);
+
+  // A step that "saves" time is no timing.
+  KnownCosts negative;
+  negative.step = -2e-9;
+  calibration = calibration_from_measurements(exact_rows(negative), kBuilds);
+  EXPECT_EQ(calibration.travcost, defaults.travcost);
+  EXPECT_TRUE(calibration.detail.at("unidentified").contains("travcost"));
+
+  // No build measured: subcost stays.
+  calibration = calibration_from_measurements(exact_rows(KnownCosts{}), {});
+  EXPECT_EQ(calibration.subcost, defaults.subcost);
+  EXPECT_TRUE(calibration.detail.at("unidentified").contains("subcost"));
+
+  // Without the unit nothing can be expressed in it: every default, every one named.
+  calibration = calibration_from_measurements({}, kBuilds);
+  EXPECT_EQ(calibration.nanoseconds_per_unit, 0.0);
+  EXPECT_EQ(to_json(calibration).at("intcost"), defaults.intcost);
+  EXPECT_EQ(calibration.vertcost, defaults.vertcost);
+  EXPECT_EQ(calibration.detail.at("unidentified").size(), 5u);
+}
+
+TEST(Calibrate, NoisyRowsGiveStandardErrors) {
+  // Alternating +-2% on the times: the fit still finds every term, with finite errors.
+  std::vector<WorkSample> rows = exact_rows(KnownCosts{});
+  for (size_t i = 0; i < rows.size(); ++i) rows[i].seconds *= i % 2 ? 1.02 : 0.98;
+  const CostFit fit = fit_costs(rows);
+  EXPECT_NEAR(fit.rms_relative_residual, 0.02, 0.02);
+  for (int t = 0; t < kFitTerms; ++t) {
+    EXPECT_TRUE(std::isfinite(fit.standard_error[t])) << t;
+    EXPECT_GT(fit.standard_error[t], 0.0) << t;
+  }
+}
+
+TEST(Calibrate, JsonRoundTrip) {
+  Calibration calibration = calibration_from_measurements(exact_rows(KnownCosts{}), kBuilds);
+  calibration.vertcost = 7.25;
+  const Calibration back = calibration_from_json(to_json(calibration), "memory");
+  EXPECT_EQ(to_json(back), to_json(calibration));
+
+  const std::string path = test::temp_path("calibration.json");
+  write_json(path, to_json(calibration));
+  const Calibration read = read_calibration(path);
+  EXPECT_EQ(read.vertcost, 7.25);
+  EXPECT_EQ(read.subcost, calibration.subcost);
+  EXPECT_EQ(read.nanoseconds_per_unit, calibration.nanoseconds_per_unit);
+  std::remove(path.c_str());
+}
+
+TEST(Calibrate, WithCalibrationSetsExactlyTheFiveConstants) {
+  AccelParams params;
+  params.max_granularity = 7;
+  params.axis = AxisRule::cost;
+  params.sample_every = 3;
+  params.max_depth = 9;
+  Calibration calibration;
+  calibration.intcost = 1.0, calibration.repcost = 0.5, calibration.travcost = 0.25;
+  calibration.vertcost = 3.5, calibration.subcost = 11.0;
+  json expected = params.to_json();
+  for (const char* key : {"intcost", "repcost", "travcost", "vertcost", "subcost"})
+    expected[key] = to_json(calibration)[key];
+  EXPECT_EQ(with_calibration(params, calibration).to_json(), expected);
+}
+
+// The InputError message `call` throws, or "" when it throws none.
+template <class Call>
+std::string input_error_of(Call&& call) {
+  try {
+    call();
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+std::string error_of(const json& in) {
+  return input_error_of([&] { calibration_from_json(in, "costs.json"); });
+}
+
+TEST(Calibrate, BadCalibrationIsInputErrorNamingTheFile) {
+  const json good = {
+      {"intcost", 1.0}, {"repcost", 0.2}, {"travcost", 1.0}, {"vertcost", 6.0}, {"subcost", 2.0}};
+  EXPECT_EQ(error_of(good), "");
+  json missing = good;
+  missing.erase("travcost");
+  EXPECT_EQ(error_of(missing), "costs.json: \"travcost\" is missing");
+  json negative = good;
+  negative["repcost"] = -0.5;
+  EXPECT_EQ(error_of(negative), "costs.json: \"repcost\" must be a finite number >= 0, not -0.5");
+  json nan = good;
+  nan["vertcost"] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(error_of(nan), "costs.json: \"vertcost\" must be a finite number >= 0, not NaN");
+  json text = good;
+  text["subcost"] = "2";
+  EXPECT_EQ(error_of(text), "costs.json: \"subcost\" must be a finite number >= 0, not \"2\"");
+  json bad_unit = good;
+  bad_unit["nanoseconds_per_unit"] = -1;
+  EXPECT_EQ(error_of(bad_unit),
+            "costs.json: \"nanoseconds_per_unit\" must be a finite number >= 0, not -1");
+  EXPECT_EQ(error_of(json::array()), "costs.json: a calibration is a JSON object");
+
+  // Files: NaN is not JSON; a missing file.
+  const std::string path = test::temp_path("bad-calibration.json");
+  std::ofstream(path) << R"({"intcost": 1, "repcost": NaN})";
+  EXPECT_EQ(input_error_of([&] { read_calibration(path); }), path + ": is not valid JSON");
+  std::remove(path.c_str());
+  EXPECT_EQ(input_error_of([&] { read_calibration(path); }).rfind(path + ": ", 0), 0u);
+}
+
+TEST(Calibrate, ShortRealRunMeasuresEveryConstant) {
+  CalibrateOptions options;
+  options.budget_seconds = 0.5;
+  const Calibration calibration = calibrate(options);
+  const json out = to_json(calibration);
+  for (const char* key : {"intcost", "repcost", "travcost", "vertcost", "subcost"}) {
+    EXPECT_TRUE(std::isfinite(out[key].get<double>())) << key;
+    EXPECT_GT(out[key].get<double>(), 0.0) << key;
+  }
+  EXPECT_EQ(calibration.intcost, 1.0);
+  EXPECT_GT(calibration.nanoseconds_per_unit, 0.0);
+  // Each synthetic scene made the work it was built for, as the traversal counted it.
+  for (const json& design : calibration.detail.at("designs"))
+    EXPECT_TRUE(design.at("as_designed").get<bool>()) << design.dump();
+  EXPECT_EQ(calibration.detail.at("validation").size(), 2u);
+}
+
+TEST(Calibrate, BudgetMustBePositive) {
+  CalibrateOptions options;
+  options.budget_seconds = 0.0;
+  EXPECT_THROW(calibrate(options), UsageError);
+  options.budget_seconds = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(calibrate(options), UsageError);
+}
+
+}  // namespace
+}  // namespace gs

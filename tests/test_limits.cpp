@@ -1,0 +1,408 @@
+// Resource limits and degenerate input (issue 5): scene file size and counts, structure
+// parameter ranges, the memory budget of every structure, and builds that end with bounded
+// depth on input that defeats the cost models. Every answer is compared with brute force;
+// the limits are tested through their check functions with small injected values, never
+// with multi-gigabyte files.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <limits>
+
+#include "core/bvh.h"
+#include "core/error.h"
+#include "core/grid1d.h"
+#include "core/grid3d.h"
+#include "core/octree.h"
+#include "core/uniform_grid.h"
+#include "tests/test_util.h"
+
+namespace gs {
+namespace {
+
+// ---------------------------------------------------------------------------------------
+// Scene files and counts
+
+std::string write_bytes(const std::string& name, const std::string& bytes) {
+  const std::string path = test::temp_path(name);
+  std::ofstream(path, std::ios::binary) << bytes;
+  return path;
+}
+
+// The InputError message `run` throws ("" when it throws none).
+std::string input_error(const std::function<void()>& run) {
+  try {
+    run();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(SceneLimits, FileSizeIsCheckedBeforeReading) {
+  const std::string path = write_bytes("limit.obj", std::string(1000, '#'));
+  EXPECT_EQ(detail::read_scene_file(path, 1000, 1000).size(), 1000u);  // at the limit: read
+  EXPECT_EQ(input_error([&] { detail::read_scene_file(path, 1000, 999); }),
+            path + ": file is larger than the 999-byte limit");
+  // A plain file's bytes are its data: the data limit applies too.
+  EXPECT_EQ(input_error([&] { detail::read_scene_file(path, 999, 1000); }),
+            path + ": file is larger than the 999-byte limit");
+}
+
+TEST(SceneLimits, CountsAboveTheLimitsAreOneLineErrors) {
+  EXPECT_EQ(input_error([] { check_scene_counts("s.ply", 10, 20, 10, 20); }), "");
+  EXPECT_EQ(input_error([] { check_scene_counts("s.ply", 11, 20, 10, 20); }),
+            "s.ply: 11 vertices, more than the limit of 10");
+  EXPECT_EQ(input_error([] { check_scene_counts("s.ply", 10, 21, 10, 20); }),
+            "s.ply: 21 triangles, more than the limit of 20");
+  // The defaults: 2^28 of each (scene.h gives the memory arithmetic behind them).
+  EXPECT_EQ(input_error([] { check_scene_counts("s.ply", 1 << 28, 1 << 28); }), "");
+  EXPECT_NE(input_error([] { check_scene_counts("s.ply", 0, (1 << 28) + 1); }), "");
+}
+
+// ---------------------------------------------------------------------------------------
+// Structure parameters
+
+const std::vector<std::string>& structure_names() {
+  static const std::vector<std::string> names = {"uniform", "octree", "grid3d", "grid1d", "bvh"};
+  return names;
+}
+
+// The UsageError message make_accelerator throws for `name` with `params` ("" for none).
+std::string usage_error(const std::string& name, const AccelParams& params) {
+  try {
+    make_accelerator(name, params);
+  } catch (const UsageError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ParameterLimits, OutOfRangeValuesNameTheFlag) {
+  struct Bad {
+    std::function<void(AccelParams&)> set;
+    std::string message;
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<Bad> bad = {
+      {[](AccelParams& p) { p.intcost = -1; }, "--intcost -1: expected a finite number >= 0"},
+      {[&](AccelParams& p) { p.subcost = nan; }, "--subcost nan: expected a finite number >= 0"},
+      {[](AccelParams& p) { p.vertcost = HUGE_VAL; }, "--vertcost inf: expected a finite"},
+      {[](AccelParams& p) { p.max_granularity = 0; }, "--max-granularity 0: expected"},
+      {[](AccelParams& p) { p.max_granularity = kMaxGranularity + 1; },
+       "--max-granularity 4097: expected an integer in 1..4096"},
+      {[](AccelParams& p) { p.max_depth = -1; }, "--max-depth -1: expected"},
+      {[](AccelParams& p) { p.max_depth = kMaxDepth + 1; }, "--max-depth 65: expected"},
+      {[](AccelParams& p) { p.leaf_size = kMaxLeafSize + 1; }, "--leaf-size 1048577: expected"},
+      {[&](AccelParams& p) { p.density = nan; }, "--density nan: expected"},
+      {[](AccelParams& p) { p.sample_every = 0; }, "--sample-every 0: expected"},
+      {[](AccelParams& p) { p.build_threads = -1; }, "--build-threads -1: expected"},
+      {[](AccelParams& p) { p.memory_budget = kMaxMemoryBudget + 1; },
+       "--memory-budget 1099511627777: expected at most"},
+  };
+  for (const std::string name : {"grid1d", "bvh", "brute"})
+    for (const Bad& b : bad) {
+      AccelParams params;
+      b.set(params);
+      EXPECT_EQ(usage_error(name, params).rfind(b.message, 0), 0u)
+          << name << ": " << usage_error(name, params) << " (wanted " << b.message << ")";
+    }
+}
+
+TEST(ParameterLimits, EachStructureKeepsItsOwnDepthCap) {
+  for (const auto& [name, cap] :
+       {std::pair{"octree", Octree::kDepthCap}, std::pair{"grid3d", NestedGrid::kMaxDepthCap},
+        std::pair{"bvh", kMaxDepth}, std::pair{"grid1d", kMaxDepth}}) {
+    AccelParams params;
+    params.max_depth = cap;
+    EXPECT_EQ(usage_error(name, params), "") << name;
+    params.max_depth = cap + 1;
+    EXPECT_EQ(usage_error(name, params), "--max-depth " + std::to_string(cap + 1) +
+                                             ": expected an integer in 1.." + std::to_string(cap) +
+                                             " for " + name);
+  }
+}
+
+TEST(ParameterLimits, TheExtremesAreAccepted) {
+  AccelParams params;
+  params.intcost = params.repcost = params.travcost = params.vertcost = params.subcost = 0.0;
+  params.max_granularity = kMaxGranularity;
+  params.leaf_size = kMaxLeafSize;
+  params.memory_budget = kMaxMemoryBudget;  // address space is reserved, never committed
+  for (const std::string& name : structure_names())
+    EXPECT_EQ(usage_error(name, params), "") << name;
+}
+
+TEST(ParameterLimits, CommandLineReportsThemWithExitStatusTwo) {
+  const auto outcome =
+      test::run_gridscope("render builtin:pyramid --out " + test::quoted(test::temp_path("x.png")) +
+                          " --accel octree --max-depth 21");
+  EXPECT_EQ(outcome.status, 2);
+  EXPECT_NE(outcome.err.find("--max-depth 21: expected an integer in 1..20 for octree"),
+            std::string::npos)
+      << outcome.err;
+  const auto budget =
+      test::run_gridscope("render builtin:pyramid --out " + test::quoted(test::temp_path("x.png")) +
+                          " --memory-budget 2048G");
+  EXPECT_EQ(budget.status, 2);
+  EXPECT_NE(budget.err.find("--memory-budget"), std::string::npos) << budget.err;
+}
+
+// ---------------------------------------------------------------------------------------
+// Structures on a budget and on degenerate input
+
+bool is_lazy(const std::string& name) { return name == "grid1d" || name == "grid3d"; }
+
+// Builds as the command line does: build, the sampling pass over every 16th ray, then
+// (eager) everything the rays could reach.
+std::unique_ptr<Accelerator> built(const std::string& name, const AccelParams& params,
+                                   const Scene& scene, const std::vector<Ray>& rays, bool eager) {
+  auto accel = make_accelerator(name, params);
+  accel->build(scene);
+  test::run_sampling_pass(*accel, rays, 16);
+  if (eager) accel->build_all();
+  return accel;
+}
+
+// Rays whose answers differ from brute's (the first few reported).
+size_t mismatches(const std::string& what, const std::vector<Hit>& hits,
+                  const std::vector<Hit>& expected) {
+  size_t bad = 0;
+  for (size_t i = 0; i < hits.size(); ++i)
+    if (!(hits[i] == expected[i]) && ++bad <= 3)
+      ADD_FAILURE() << what << ": ray " << i << " hit " << hits[i].id << " t " << hits[i].t
+                    << ", brute " << expected[i].id << " t " << expected[i].t;
+  return bad;
+}
+
+// Lazy structures traced by two threads, before and after building everything; the others
+// by two threads.
+size_t disagreements(const std::string& name, const AccelParams& params, const Scene& scene,
+                     const std::vector<Ray>& rays, const std::vector<Hit>& expected) {
+  size_t bad = 0;
+  for (const bool eager : {false, true}) {
+    if (eager && !is_lazy(name)) continue;
+    const auto accel = built(name, params, scene, rays, eager);
+    bad +=
+        mismatches(name + (eager ? " eager" : " lazy"), test::trace_all(*accel, rays, 2), expected);
+  }
+  return bad;
+}
+
+std::vector<Ray> mixed_rays(const Scene& scene, int count) {
+  Box box = scene.bounds();
+  // A flat scene's box has no depth: rays from around it still cross it.
+  for (int a = 0; a < 3; ++a)
+    if (box.hi[a] - box.lo[a] < 1e-3f * (box.hi - box.lo)[(a + 1) % 3])
+      box.lo[a] -= 1.0f, box.hi[a] += 1.0f;
+  std::vector<Ray> rays = test::camera_rays(box, 30, 30);
+  for (const auto& set :
+       {test::random_chords(box, 5, count), test::axis_parallel_rays(box, 6, count),
+        test::edge_and_vertex_rays(scene, 7, count)})
+    rays.insert(rays.end(), set.begin(), set.end());
+  return rays;
+}
+
+// --- Memory budget ---------------------------------------------------------------------
+
+Scene budget_scene() {
+  return test::merge(test::make_sphere({0.1f, 0.2f, -0.1f}, 1.0f, 16, 32),
+                     test::make_soup(21, 1500, glm::vec3(-1.2f), glm::vec3(1.2f), 0.08f));
+}
+
+class MemoryBudget : public testing::TestWithParam<std::string> {};
+
+// Budgets from none to a good part of what the structure wants: some voxels or nodes stay
+// leaves (the uniform grid gets fewer cells) and stats count them; the structure stays
+// within the budget plus what it builds whatever the budget (its triangles and its root:
+// what budget 0 gives); the answers stay brute's.
+TEST_P(MemoryBudget, BudgetsBoundTheStructureAndNeverChangeAnswers) {
+  const std::string name = GetParam();
+  const Scene scene = budget_scene();
+  const std::vector<Ray> rays = mixed_rays(scene, 1000);
+  const std::vector<Hit> expected = test::brute_answers(scene, rays);
+  const StructureStats unbounded = built(name, AccelParams{}, scene, rays, true)->stats();
+  EXPECT_EQ(unbounded.voxels_over_budget, 0u);
+  AccelParams params;
+  params.memory_budget = 0;
+  // grid1d counts its root voxel against the budget too and refuses a budget that cannot
+  // hold the root's triangle list with a usage error: its floor is what it builds on the
+  // smallest budget used here.
+  if (name == "grid1d") {
+    EXPECT_THROW(built(name, params, scene, rays, true), UsageError);
+    params.memory_budget = 16 << 10;
+  }
+  const uint64_t floor = built(name, params, scene, rays, true)->stats().memory_bytes;
+  bool refused = false;
+  for (const uint64_t budget : {0, 16 << 10, 64 << 10, 512 << 10}) {
+    if (name == "grid1d" && budget == 0) continue;
+    params.memory_budget = budget;
+    const StructureStats stats = built(name, params, scene, rays, true)->stats();
+    std::printf("%s, budget %llu: %llu bytes, %llu over budget (unbounded: %llu bytes)\n",
+                name.c_str(), (unsigned long long)budget, (unsigned long long)stats.memory_bytes,
+                (unsigned long long)stats.voxels_over_budget,
+                (unsigned long long)unbounded.memory_bytes);
+    EXPECT_LE(stats.memory_bytes, budget + floor) << budget;
+    if (stats.voxels_over_budget > 0) {
+      refused = true;
+      EXPECT_LT(stats.memory_bytes, unbounded.memory_bytes) << budget;
+    }
+    EXPECT_EQ(disagreements(name, params, scene, rays, expected), 0u) << budget;
+  }
+  EXPECT_TRUE(refused);
+}
+
+INSTANTIATE_TEST_SUITE_P(Structures, MemoryBudget, testing::ValuesIn(structure_names()),
+                         [](const auto& info) { return info.param; });
+
+// --- Degenerate input ------------------------------------------------------------------
+
+Scene with_triangle(Scene scene, glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+  const uint32_t base = uint32_t(scene.vertices.size());
+  scene.vertices.insert(scene.vertices.end(), {a, b, c});
+  scene.triangles.emplace_back(base, base + 1, base + 2);
+  return scene;
+}
+
+// 5,000 copies of one triangle among a few hundred others.
+Scene coincident_scene() {
+  Scene scene = test::make_soup(4, 300, glm::vec3(-1.0f), glm::vec3(1.0f), 0.1f);
+  scene = with_triangle(scene, {-0.5f, -0.5f, 0.2f}, {0.5f, -0.4f, 0.2f}, {0.0f, 0.6f, 0.25f});
+  for (int i = 1; i < 5000; ++i) scene.triangles.push_back(scene.triangles.back());
+  return scene;
+}
+
+// 2,000 triangles in the tilted plane x + y + z = 0 (no axis is flat, the cost model's
+// spread is all in two dimensions).
+Scene tilted_plane_scene() {
+  Scene scene = test::make_soup(9, 2000, glm::vec3(-1.0f), glm::vec3(1.0f), 0.05f);
+  for (glm::vec3& v : scene.vertices) v.z = -v.x - v.y;
+  return scene;
+}
+
+// Zero extent along x: every vertex at x = 0.25.
+Scene flat_x_scene() {
+  Scene scene = test::make_soup(10, 2000, glm::vec3(-1.0f), glm::vec3(1.0f), 0.05f);
+  for (glm::vec3& v : scene.vertices) v.x = 0.25f;
+  return scene;
+}
+
+// Long thin slivers filling a 100 x 2 x 2 box.
+Scene sliver_scene() {
+  Scene scene;
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  for (int i = 0; i < 1500; ++i) {
+    const glm::vec3 a(unit(rng) * 50, unit(rng), unit(rng));
+    const glm::vec3 b(-a.x, a.y + unit(rng) * 1e-3f, a.z);
+    scene = with_triangle(scene, a, b, a + glm::vec3(0.0f, unit(rng) * 1e-2f, 1e-2f));
+  }
+  return scene;
+}
+
+// A small scene a million units from the origin, where float spacing is 1/16.
+Scene far_away_scene() {
+  return test::transformed(budget_scene(), 100.0f, glm::vec3(1e6f, -2e6f, 1e6f));
+}
+
+struct DegenerateCase {
+  std::string structure;
+  std::string scene;
+};
+
+Scene degenerate_scene(const std::string& name) {
+  if (name == "coincident") return coincident_scene();
+  if (name == "tilted_plane") return tilted_plane_scene();
+  if (name == "flat_x") return flat_x_scene();
+  if (name == "slivers") return sliver_scene();
+  return far_away_scene();
+}
+
+// The deepest level the structure built (the root is level 0, a grid3d root grid level 1).
+int depth_built(const Accelerator& accel) {
+  int deepest = 0;
+  if (const auto* octree = dynamic_cast<const Octree*>(&accel)) return octree->depth_reached();
+  if (const auto* grid = dynamic_cast<const Grid1D*>(&accel)) {
+    for (uint32_t id = 0; id < grid->voxel_count(); ++id)
+      deepest = std::max(deepest, int(grid->voxel_depth(id)));
+  } else if (const auto* nested = dynamic_cast<const NestedGrid*>(&accel)) {
+    for (uint32_t id = 0; id < nested->grid_count(); ++id)
+      deepest = std::max(deepest, int(nested->grid(id).depth));
+  } else if (const auto* bvh = dynamic_cast<const Bvh*>(&accel)) {
+    std::vector<std::pair<uint32_t, int>> stack{{0, 0}};
+    while (!stack.empty() && bvh->node_count() > 0) {
+      const auto [id, depth] = stack.back();
+      stack.pop_back();
+      deepest = std::max(deepest, depth);
+      if (bvh->node(id).count == 0)
+        stack.insert(stack.end(),
+                     {{bvh->node(id).first, depth + 1}, {bvh->node(id).first + 1, depth + 1}});
+    }
+  }
+  return deepest;
+}
+
+// Each structure's documented depth cap at its default parameters.
+int default_depth_cap(const std::string& name) {
+  if (name == "octree") return Octree::kDefaultMaxDepth;
+  if (name == "grid3d") return NestedGrid::kDefaultMaxDepth;
+  if (name == "grid1d") return 32;
+  if (name == "bvh") return Bvh::kDefaultMaxDepth;
+  return 0;
+}
+
+class Degenerate : public testing::TestWithParam<DegenerateCase> {};
+
+// Everything built (eager), with depth within the cap and at most 64 nodes per triangle;
+// every answer brute's, lazy and eager.
+TEST_P(Degenerate, BuildEndsBoundedAndAnswersEqualBrute) {
+  const auto& [name, scene_name] = GetParam();
+  const Scene scene = degenerate_scene(scene_name);
+  const std::vector<Ray> rays = mixed_rays(scene, 800);
+  const std::vector<Hit> expected = test::brute_answers(scene, rays);
+  const auto accel = built(name, AccelParams{}, scene, rays, true);
+  const StructureStats stats = accel->stats();
+  std::printf("%s on %s: %llu nodes, depth %d, %llu bytes\n", name.c_str(), scene_name.c_str(),
+              (unsigned long long)*stats.nodes, depth_built(*accel),
+              (unsigned long long)stats.memory_bytes);
+  EXPECT_LE(depth_built(*accel), default_depth_cap(name));
+  EXPECT_LE(*stats.nodes, 64 * scene.triangle_count());
+  EXPECT_EQ(disagreements(name, AccelParams{}, scene, rays, expected), 0u);
+}
+
+std::vector<DegenerateCase> degenerate_cases() {
+  std::vector<DegenerateCase> cases;
+  for (const std::string& s : structure_names())
+    for (const char* scene : {"coincident", "tilted_plane", "flat_x", "slivers", "far_away"})
+      cases.push_back({s, scene});
+  return cases;
+}
+
+INSTANTIATE_TEST_SUITE_P(Structures, Degenerate, testing::ValuesIn(degenerate_cases()),
+                         [](const auto& info) {
+                           return info.param.structure + "_" + info.param.scene;
+                         });
+
+// The largest granularity and depth together on input no cut can separate: grid1d's
+// absolute granularity cap and cut rules end the build, with bounded memory.
+TEST(GranularityTimesDepth, TheLargestBothOnInseparableInputEnd) {
+  const Scene scene = coincident_scene();
+  const std::vector<Ray> rays = mixed_rays(scene, 800);
+  AccelParams params;
+  params.max_granularity = kMaxGranularity;
+  params.max_depth = kMaxDepth;
+  params.subcost = params.vertcost = params.travcost = 0.0;  // every cut pays
+  const auto accel = built("grid1d", params, scene, rays, true);
+  std::printf("grid1d, g 4096 depth 64 on coincident: %llu nodes, depth %d, %llu bytes\n",
+              (unsigned long long)*accel->stats().nodes, depth_built(*accel),
+              (unsigned long long)accel->stats().memory_bytes);
+  EXPECT_LE(depth_built(*accel), kMaxDepth);
+  EXPECT_LT(accel->stats().memory_bytes, uint64_t{1} << 30);
+  EXPECT_EQ(
+      mismatches("grid1d", test::trace_all(*accel, rays, 2), test::brute_answers(scene, rays)), 0u);
+}
+
+}  // namespace
+}  // namespace gs

@@ -1,0 +1,249 @@
+// The renderer's workloads and their replay: ray keys are a bijection onto [0, keys), a
+// recorded render of scenes whose answers follow from their geometry holds exactly those
+// answers, the paper's workload (bounces 0) gives the closed-form colours of a lit and of a
+// shadowed floor, bounces only add light and do not depend on the thread count, and the
+// zero-overhead oracle replays a recorded render into the same image byte for byte.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "core/ray_io.h"
+#include "core/render.h"
+#include "core/zero_overhead.h"
+#include "tests/test_util.h"
+
+namespace gs {
+namespace {
+
+using test::quoted;
+using test::temp_path;
+
+// The square [-100, 100]^2 in the plane z = `z`, as two triangles.
+Scene square_at(float z) {
+  Scene scene;
+  scene.vertices = {{-100, -100, z}, {100, -100, z}, {100, 100, z}, {-100, 100, z}};
+  scene.triangles = {{0, 1, 2}, {0, 2, 3}};
+  return scene;
+}
+
+// The floor z = 0 alone (triangles 0, 1): lit everywhere, nothing to block a shadow ray.
+Scene open_floor() { return square_at(0.0f); }
+// The floor and, just behind the camera, a ceiling (triangles 2, 3) between every floor
+// point and the light (which sits above and behind the camera): the floor is all in shadow.
+Scene covered_floor() { return test::merge(square_at(0.0f), square_at(5.5f)); }
+
+// Looking straight down at the floor from z = 5; an odd image size puts the centre pixel's
+// ray on the axis, through the origin.
+Camera down_camera() {
+  Camera camera;
+  camera.eye = {0, 0, 5};
+  camera.target = {0, 0, 0};
+  camera.up = {0, 1, 0};
+  return camera;
+}
+
+RenderSettings settings_of(int width, int height, int spp, int bounces, int threads) {
+  RenderSettings settings{width, height, spp, threads};
+  settings.bounces = bounces;
+  return settings;
+}
+
+struct Recorded {
+  RenderOutcome outcome;
+  std::vector<Hit> answers;
+};
+
+Recorded record(const Scene& scene, const std::string& accel_name, const Camera& camera,
+                const RenderSettings& settings) {
+  const std::unique_ptr<Accelerator> accel = make_accelerator(accel_name, AccelParams{});
+  Recorded run;
+  run.outcome = build_and_render(scene, *accel, camera, settings, &run.answers).outcome;
+  return run;
+}
+
+// 8-bit value the renderer writes for a linear intensity (gamma 2.2, rounded).
+int display_value(double linear) { return int(255.0 * std::pow(linear, 1.0 / 2.2) + 0.5); }
+
+constexpr double kAlbedo[3] = {0.85, 0.80, 0.72};
+constexpr double kAmbient = 0.15;
+
+TEST(RenderKeys, AreABijectionOntoTheKeyRange) {
+  for (const RenderSettings settings :
+       {settings_of(3, 2, 1, 0, 1), settings_of(3, 2, 3, 2, 1), settings_of(1, 5, 2, 4, 1)}) {
+    const uint64_t expected = uint64_t(settings.width * settings.height * settings.spp) *
+                              uint64_t(settings.bounces + 1) * 2;
+    ASSERT_EQ(render_ray_keys(settings), expected);
+    std::vector<int> seen(expected, 0);
+    for (size_t pixel = 0; pixel < size_t(settings.width * settings.height); ++pixel)
+      for (int sample = 0; sample < settings.spp; ++sample)
+        for (int bounce = 0; bounce <= settings.bounces; ++bounce)
+          for (const RayKind kind : {RayKind::nearest, RayKind::shadow}) {
+            const uint64_t key = render_ray_key(settings, pixel, sample, bounce, kind);
+            ASSERT_LT(key, expected);
+            ++seen[key];
+          }
+    // As many tuples as keys, each key met once: a bijection.
+    for (uint64_t key = 0; key < expected; ++key) EXPECT_EQ(seen[key], 1) << "key " << key;
+  }
+}
+
+TEST(RenderRecord, OpenFloorEveryPrimaryHitsNoShadowRayIsBlocked) {
+  const RenderSettings settings = settings_of(9, 7, 2, 1, 2);
+  const Recorded run = record(open_floor(), "brute", down_camera(), settings);
+  ASSERT_EQ(run.answers.size(), render_ray_keys(settings));
+  for (size_t pixel = 0; pixel < 9 * 7; ++pixel)
+    for (int s = 0; s < settings.spp; ++s) {
+      const Hit primary = run.answers[render_ray_key(settings, pixel, s, 0, RayKind::nearest)];
+      EXPECT_TRUE(primary.id == 0 || primary.id == 1) << "pixel " << pixel;
+      // Nothing but the floor: shadow rays and upward bounces find nothing.
+      EXPECT_FALSE(run.answers[render_ray_key(settings, pixel, s, 0, RayKind::shadow)].found());
+      EXPECT_FALSE(run.answers[render_ray_key(settings, pixel, s, 1, RayKind::nearest)].found());
+      EXPECT_FALSE(run.answers[render_ray_key(settings, pixel, s, 1, RayKind::shadow)].found());
+    }
+  // Primary + shadow + bounce per sample (the bounce's hit is a miss: no shadow ray).
+  EXPECT_EQ(run.outcome.rays, uint64_t(9 * 7 * 2 * 3));
+}
+
+TEST(RenderRecord, CoveredFloorEveryShadowRayHitsTheCeiling) {
+  const RenderSettings settings = settings_of(9, 7, 1, 1, 2);
+  const Recorded run = record(covered_floor(), "brute", down_camera(), settings);
+  for (size_t pixel = 0; pixel < 9 * 7; ++pixel) {
+    const auto answer = [&](int bounce, RayKind kind) {
+      return run.answers[render_ray_key(settings, pixel, 0, bounce, kind)];
+    };
+    const Hit primary = answer(0, RayKind::nearest), shadow = answer(0, RayKind::shadow);
+    EXPECT_TRUE(primary.id == 0 || primary.id == 1) << "pixel " << pixel;
+    EXPECT_TRUE(shadow.id == 2 || shadow.id == 3) << "pixel " << pixel;
+    EXPECT_GT(shadow.t, 0.0f);
+    EXPECT_LE(shadow.t, 1.0f);  // before the light
+    // A bounce goes up to the ceiling (or grazes out past it) and sees its unlit underside:
+    // no shadow ray is cast from there.
+    const Hit bounce = answer(1, RayKind::nearest);
+    EXPECT_TRUE(!bounce.found() || bounce.id == 2 || bounce.id == 3) << "pixel " << pixel;
+    EXPECT_FALSE(answer(1, RayKind::shadow).found());
+  }
+}
+
+// The light as render.cpp places it: above, behind and right of the eye, scaled by the
+// scene box's diagonal.
+glm::dvec3 light_of(const Scene& scene, const Camera& camera) {
+  const Box box = scene.bounds();
+  const double size = glm::length(glm::dvec3(box.hi - box.lo));
+  return glm::dvec3(camera.eye) - glm::dvec3(camera.forward()) * (0.5 * size) +
+         glm::dvec3(camera.true_up()) * size + glm::dvec3(camera.right()) * (0.3 * size);
+}
+
+TEST(RenderImage, LitAndShadowedFloorHaveClosedFormColours) {
+  const RenderSettings settings = settings_of(9, 9, 1, 0, 1);
+  const RenderOutcome lit = record(open_floor(), "grid1d", down_camera(), settings).outcome;
+  const RenderOutcome dark = record(covered_floor(), "grid1d", down_camera(), settings).outcome;
+  // The centre pixel sees the origin, whose normal is +z.
+  const glm::dvec3 light = light_of(open_floor(), down_camera());
+  const double lambert = light.z / glm::length(light);
+  const size_t centre = 4 * 9 + 4;
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(lit.image.rgba[4 * centre + k],
+                display_value(kAlbedo[k] * (kAmbient + (1.0 - kAmbient) * lambert)), 1);
+    EXPECT_NEAR(dark.image.rgba[4 * centre + k], display_value(kAlbedo[k] * kAmbient), 1);
+  }
+}
+
+TEST(RenderImage, BouncesOnlyAddLightAndIgnoreTheThreadCount) {
+  const Scene scene = load_scene("builtin:pyramid");
+  const Camera camera = frame_box(scene.bounds(), 32.0f / 24.0f);
+  const Image direct = record(scene, "grid1d", camera, settings_of(32, 24, 2, 0, 2)).outcome.image;
+  const Image one = record(scene, "grid1d", camera, settings_of(32, 24, 2, 1, 1)).outcome.image;
+  const Image two = record(scene, "grid1d", camera, settings_of(32, 24, 2, 1, 2)).outcome.image;
+  EXPECT_EQ(one.rgba, two.rgba);
+  // Same primary rays and direct light, plus non-negative bounce light.
+  size_t brighter = 0;
+  for (size_t i = 0; i < direct.rgba.size(); ++i) {
+    ASSERT_GE(one.rgba[i], direct.rgba[i]) << "byte " << i;
+    brighter += one.rgba[i] > direct.rgba[i];
+  }
+  EXPECT_GT(brighter, 0u);
+}
+
+TEST(RenderReplay, ZeroReproducesTheRecordedImageExactly) {
+  const Scene scene = load_scene("builtin:pyramid");
+  const Camera camera = frame_box(scene.bounds(), 24.0f / 16.0f);
+  for (const int bounces : {0, 1})
+    for (const int spp : {1, 4}) {
+      const Recorded run = record(scene, "grid1d", camera, settings_of(24, 16, spp, bounces, 1));
+      const Recorded again = record(scene, "grid1d", camera, settings_of(24, 16, spp, bounces, 2));
+      EXPECT_EQ(again.answers, run.answers) << "keys depend on the thread count";
+      for (const int threads : {1, 2}) {
+        ZeroOverhead zero(run.answers);
+        const RenderOutcome replay =
+            build_and_render(scene, zero, camera, settings_of(24, 16, spp, bounces, threads))
+                .outcome;
+        EXPECT_EQ(replay.image.rgba, run.outcome.image.rgba)
+            << "bounces " << bounces << ", spp " << spp << ", threads " << threads;
+        EXPECT_EQ(replay.rays, run.outcome.rays);
+      }
+    }
+}
+
+TEST(RenderReplay, ZeroRefusesAnOracleOfTheWrongLength) {
+  const Scene scene = open_floor();
+  const RenderSettings settings = settings_of(4, 4, 1, 0, 1);
+  ZeroOverhead zero(std::vector<Hit>(render_ray_keys(settings) - 1));
+  EXPECT_THROW(build_and_render(scene, zero, down_camera(), settings), InputError);
+}
+
+TEST(RenderSettingsCheck, BouncesOutsideTheRangeAreUsageErrors) {
+  for (const int bounces : {-1, kMaxBounces + 1})
+    EXPECT_THROW(check_render_settings(settings_of(4, 4, 1, bounces, 1)), UsageError);
+  EXPECT_NO_THROW(check_render_settings(settings_of(4, 4, 1, kMaxBounces, 1)));
+}
+
+TEST(RenderCli, BadBouncesExitWithStatus2) {
+  const std::string out = quoted(temp_path("bounces.png"));
+  for (const std::string command : {"render", "shot"})
+    for (const std::string value : {"-1", "5", "x", "1.5"}) {
+      const test::CommandOutcome run = test::run_gridscope(
+          command + " builtin:pyramid --size 8x8 --out " + out + " --bounces=" + value);
+      EXPECT_EQ(run.status, 2) << command << " --bounces " << value << ": " << run.err;
+      EXPECT_NE(run.err.find("--bounces"), std::string::npos) << run.err;
+    }
+}
+
+TEST(RenderCli, RecordedHitsReplayWithZeroIntoTheSamePng) {
+  const std::string png = temp_path("recorded.png"), hits = temp_path("recorded.hits"),
+                    replay = temp_path("replayed.png");
+  const std::string common = " builtin:pyramid --size 20x12 --spp 2 --bounces 1 --threads 2";
+  ASSERT_EQ(test::run_gridscope("render" + common + " --out " + quoted(png) + " --record-hits " +
+                                quoted(hits))
+                .status,
+            0);
+  EXPECT_EQ(read_hits(hits).size(), render_ray_keys(settings_of(20, 12, 2, 1, 1)));
+  const test::CommandOutcome run = test::run_gridscope(
+      "render" + common + " --accel zero --oracle " + quoted(hits) + " --out " + quoted(replay));
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_EQ(test::slurp(replay), test::slurp(png));
+}
+
+TEST(RenderCli, ZeroWithAShortOracleExitsWithStatus1NamingIt) {
+  const std::string hits = temp_path("short.hits");
+  write_hits(hits, std::vector<Hit>(10));
+  const test::CommandOutcome run =
+      test::run_gridscope("render builtin:pyramid --size 8x8 --accel zero --oracle " +
+                          quoted(hits) + " --out " + quoted(temp_path("short.png")));
+  EXPECT_EQ(run.status, 1);
+  EXPECT_NE(run.err.find(hits), std::string::npos) << run.err;
+  EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+}
+
+TEST(RenderCli, ZeroWithoutOracleIsAUsageError) {
+  const test::CommandOutcome run = test::run_gridscope(
+      "render builtin:pyramid --size 8x8 --accel zero --out " + quoted(temp_path("no.png")));
+  EXPECT_EQ(run.status, 2) << run.err;
+}
+
+}  // namespace
+}  // namespace gs
