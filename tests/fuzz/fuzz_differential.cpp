@@ -105,7 +105,15 @@ uint32_t corner(Scene& scene, const Frame& frame, Choices& in) {
 Scene make_scene(const Frame& frame, Choices& in) {
   Scene scene;
   scene.name = "fuzz";
-  const uint32_t triangles = 1 + in.below(kMaxTriangles);
+  uint32_t triangles = 1 + in.below(kMaxTriangles);
+  if (in.below(2) == 0) {
+    // A degenerate triangle from corner to corner of the lattice box: never hit, but it makes
+    // the scene box the lattice box, so that the walls of power-of-two cuts (octree, grid1d
+    // with g = 2, 4, 8) fall on lattice coordinates, where the triangles lie.
+    scene.vertices = {frame.map(glm::vec3(-1.0f)), frame.map(glm::vec3(1.0f))};
+    scene.triangles.emplace_back(0, 1, 1);
+    --triangles;
+  }
   for (uint32_t t = 0; t < triangles; ++t) {
     glm::uvec3 tri;
     for (int c = 0; c < 3; ++c) tri[c] = corner(scene, frame, in);
@@ -198,18 +206,17 @@ Ray make_ray(const Scene& scene, const Frame& frame, const Ray* previous, Choice
 StructureSettings make_settings(Choices& in) {
   StructureSettings s;
   AccelParams& p = s.params;
-  // Values the command line accepts, the extremes included.
-  // The cost function weighs every g up to the maximum for each voxel (§6): 4096 is slow,
-  // so it comes up rarely.
+  // Values the command line accepts, the extremes included; the slow ones come up rarely:
+  // the cost function weighs every g up to the maximum for each voxel (§6.5), and a uniform
+  // grid of --density 1e12 has as many cells as its budget allows, which rays walk one by one.
   p.max_granularity = in.pick({2, 20, 3, 4, 5, 8, 20, 64, 1, 2, 3, 4, 20, 8, 16, 4096});
   p.axis = in.below(2) ? AxisRule::cost : AxisRule::alternate;
   p.max_depth = in.pick({0, 0, 1, 2, 4, 64});
   p.leaf_size = in.pick({0, 0, 1, 2, 8, 1 << 20});
-  p.density = in.pick({0.0, 0.0, 0.01, 1.0, 50.0, 1e12});
+  p.density =
+      in.pick({0.0, 0.0, 0.01, 1.0, 50.0, 0.0, 2.0, 0.5, 0.0, 0.0, 4.0, 0.0, 1.0, 0.0, 0.1, 1e12});
   p.sample_every = in.pick({1, 3, 64});
-  // Small budgets keep every execution fast (a uniform grid of --density 1e12 has as many
-  // cells as its budget allows, and a ray walks through them) and make structures stop at
-  // the cap.
+  // Small budgets keep every execution fast and make structures stop at the cap.
   p.memory_budget =
       in.pick({uint64_t{1} << 20, uint64_t{1} << 20, uint64_t{64} << 10, uint64_t{4} << 10});
   if (in.below(8) == 0) p.subcost = p.vertcost = p.travcost = 0.0;  // every cut pays
