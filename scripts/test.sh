@@ -50,5 +50,7 @@ tsan() {
 stage release release
 stage asan asan
 stage tsan tsan
-# 4. Fuzzing goes here, after the suites it relies on have passed: stage fuzz ./scripts/fuzz.sh
+# 4. Every fuzz target (tests/fuzz) for 20 s on a copy of its seed corpus: any crash, leak,
+# hang or disagreement with brute force fails the run.
+stage fuzz ./scripts/fuzz.sh 20
 echo "== all stages passed:$summary" >&2
