@@ -429,7 +429,9 @@ Command parse_bench(std::span<const std::string> words) {
       string_flag("--from", job.from_path),
       {"--quick", false, [&](const std::string&) { options.quick = true; }},
       {"--seed", true,
-       [&](const std::string& v) { options.seed = uint64_t(parse_int("--seed", v, 0, INT32_MAX)); }},
+       [&](const std::string& v) {
+         options.seed = uint64_t(parse_int("--seed", v, 0, INT32_MAX));
+       }},
       {"--threads", true,
        [&](const std::string& v) { options.threads = parse_int("--threads", v, 1, kMaxThreads); }}};
   no_positionals("bench", parse_words("bench", words, flags));
@@ -448,8 +450,9 @@ Command parse_calibrate(std::span<const std::string> words) {
       string_flag("--out", out),
       {"--quick", false,
        [&](const std::string&) { options.budget_seconds = CalibrateOptions::kQuickBudget; }},
-      {"--seed", true,
-       [&](const std::string& v) { options.seed = uint64_t(parse_int("--seed", v, 0, INT32_MAX)); }}};
+      {"--seed", true, [&](const std::string& v) {
+         options.seed = uint64_t(parse_int("--seed", v, 0, INT32_MAX));
+       }}};
   no_positionals("calibrate", parse_words("calibrate", words, flags));
   return {[out, options] {
     const Calibration calibration = calibrate(options);
