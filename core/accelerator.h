@@ -93,7 +93,9 @@ struct StructureStats {
   uint64_t memory_bytes = 0;
   double build_seconds =
       0.0;  // up-front build plus the sampling pass (lazy work is added by callers)
-  uint64_t voxels_over_budget = 0;  // voxels left leaves because the memory budget was reached
+  // Voxels or nodes left leaves because their cut would exceed the memory budget (the
+  // uniform grid: cells its resolution wanted that the budget did not allow).
+  uint64_t voxels_over_budget = 0;
   // False for a structure whose tests (with its mailbox rejections) or cell steps cannot be
   // counted (embree): run_stats writes those counters as null instead of a made-up 0.
   bool counts_tests = true;
