@@ -4,10 +4,10 @@
 #include <filesystem>
 
 #include "app/plot.h"
-#include "core/bench_report.h"
-#include "core/error.h"
-#include "core/ray_io.h"
-#include "core/trace_run.h"
+#include "bench/report.h"
+#include "core/base/error.h"
+#include "core/geometry/ray_io.h"
+#include "core/trace/trace_job.h"
 
 namespace gs::app {
 

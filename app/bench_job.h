@@ -3,7 +3,7 @@
 #pragma once
 #include <string>
 
-#include "core/bench.h"
+#include "bench/bench.h"
 
 namespace gs::app {
 

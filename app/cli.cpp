@@ -13,13 +13,14 @@
 #include "app/bench_job.h"
 #include "app/shot.h"
 #include "app/view.h"
-#include "core/calibrate.h"
-#include "core/camera.h"
-#include "core/error.h"
-#include "core/ray_io.h"
-#include "core/render.h"
-#include "core/scene.h"
-#include "core/trace_run.h"
+#include "bench/calibrate.h"
+#include "core/accel/grid1d/cost_constants.h"
+#include "core/scene/camera.h"
+#include "core/base/error.h"
+#include "core/geometry/ray_io.h"
+#include "core/render/render.h"
+#include "core/scene/scene.h"
+#include "core/trace/trace_job.h"
 
 namespace gs::app {
 

@@ -13,8 +13,8 @@
 #include "app/gl/frame.h"
 #include "app/gl/headless.h"
 #include "app/gl/imgui_renderer.h"
-#include "core/bench_report.h"
-#include "core/render.h"
+#include "bench/report.h"
+#include "core/render/render.h"
 
 namespace gs::app {
 

@@ -11,10 +11,10 @@
 #include "app/gl/frame.h"
 #include "app/gl/headless.h"
 #include "app/gl/imgui_renderer.h"
-#include "core/error.h"
-#include "core/grid1d.h"
-#include "core/overlay.h"
-#include "core/trace_run.h"
+#include "core/base/error.h"
+#include "core/accel/grid1d/grid1d.h"
+#include "core/render/overlay.h"
+#include "core/trace/trace_job.h"
 
 namespace gs::app {
 

@@ -6,10 +6,10 @@
 #include <optional>
 #include <string>
 
-#include "core/accelerator.h"
-#include "core/camera.h"
-#include "core/overlay.h"
-#include "core/render.h"
+#include "core/accel/accelerator.h"
+#include "core/scene/camera.h"
+#include "core/render/overlay.h"
+#include "core/render/render.h"
 
 namespace gs::app {
 

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "core/accelerator.h"
-#include "core/camera.h"
-#include "core/overlay.h"
+#include "core/accel/accelerator.h"
+#include "core/scene/camera.h"
+#include "core/render/overlay.h"
 
 namespace gs::app {
 

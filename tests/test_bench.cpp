@@ -4,10 +4,10 @@
 
 #include <cmath>
 
-#include "core/bench.h"
-#include "core/bench_scenes.h"
-#include "core/error.h"
-#include "core/render.h"
+#include "bench/bench.h"
+#include "bench/scenes.h"
+#include "core/base/error.h"
+#include "core/render/render.h"
 #include "tests/test_util.h"
 
 namespace gs {

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "app/plot.h"
-#include "core/bench_report.h"
+#include "bench/report.h"
 #include "tests/test_util.h"
 
 namespace {

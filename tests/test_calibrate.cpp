@@ -7,9 +7,9 @@
 #include <fstream>
 #include <limits>
 
-#include "core/calibrate.h"
-#include "core/error.h"
-#include "core/trace_run.h"
+#include "bench/calibrate.h"
+#include "core/base/error.h"
+#include "core/trace/trace_job.h"
 #include "tests/test_util.h"
 
 namespace gs {

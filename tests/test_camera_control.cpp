@@ -5,8 +5,8 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 
-#include "core/camera_control.h"
-#include "core/error.h"
+#include "core/render/camera_control.h"
+#include "core/base/error.h"
 
 namespace gs {
 namespace {

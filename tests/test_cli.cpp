@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "core/ray_io.h"
-#include "core/render.h"
+#include "core/geometry/ray_io.h"
+#include "core/render/render.h"
 #include "tests/test_util.h"
 
 namespace {

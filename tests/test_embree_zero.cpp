@@ -15,11 +15,11 @@
 #include <string>
 #include <vector>
 
-#include "core/accelerator.h"
-#include "core/brute.h"
-#include "core/error.h"
-#include "core/geometry.h"
-#include "core/ray_io.h"
+#include "core/accel/accelerator.h"
+#include "core/accel/brute.h"
+#include "core/base/error.h"
+#include "core/geometry/kernel.h"
+#include "core/geometry/ray_io.h"
 #include "tests/test_util.h"
 
 namespace gs {

@@ -6,9 +6,9 @@
 #include <memory>
 #include <set>
 
-#include "core/brute.h"
-#include "core/grid1d.h"
-#include "core/walk.h"
+#include "core/accel/brute.h"
+#include "core/accel/grid1d/grid1d.h"
+#include "core/accel/walk.h"
 #include "tests/test_util.h"
 
 namespace gs {

@@ -7,9 +7,9 @@
 #include <memory>
 #include <set>
 
-#include "core/brute.h"
-#include "core/bvh.h"
-#include "core/grid3d.h"
+#include "core/accel/brute.h"
+#include "core/accel/bvh.h"
+#include "core/accel/grid3d.h"
 #include "tests/test_util.h"
 
 namespace gs {

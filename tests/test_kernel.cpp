@@ -6,10 +6,10 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 
-#include "core/brute.h"
-#include "core/cost_model.h"
-#include "core/geometry.h"
-#include "core/grid1d.h"
+#include "core/accel/brute.h"
+#include "core/accel/grid1d/cost_model.h"
+#include "core/geometry/kernel.h"
+#include "core/accel/grid1d/grid1d.h"
 #include "tests/test_util.h"
 
 namespace gs {

@@ -11,12 +11,12 @@
 #include <functional>
 #include <limits>
 
-#include "core/bvh.h"
-#include "core/error.h"
-#include "core/grid1d.h"
-#include "core/grid3d.h"
-#include "core/octree.h"
-#include "core/uniform_grid.h"
+#include "core/accel/bvh.h"
+#include "core/base/error.h"
+#include "core/accel/grid1d/grid1d.h"
+#include "core/accel/grid3d.h"
+#include "core/accel/octree.h"
+#include "core/accel/uniform_grid.h"
 #include "tests/test_util.h"
 
 namespace gs {

@@ -8,10 +8,10 @@
 #include <map>
 #include <set>
 
-#include "core/brute.h"
-#include "core/grid1d.h"
-#include "core/overlay.h"
-#include "core/render.h"
+#include "core/accel/brute.h"
+#include "core/accel/grid1d/grid1d.h"
+#include "core/render/overlay.h"
+#include "core/render/render.h"
 #include "tests/test_util.h"
 
 namespace gs {

@@ -7,11 +7,11 @@
 #include <functional>
 #include <thread>
 
-#include "core/camera_control.h"
-#include "core/grid1d.h"
-#include "core/overlay.h"
-#include "core/progressive.h"
-#include "core/render.h"
+#include "core/render/camera_control.h"
+#include "core/accel/grid1d/grid1d.h"
+#include "core/render/overlay.h"
+#include "core/render/progressive.h"
+#include "core/render/render.h"
 
 namespace gs {
 namespace {

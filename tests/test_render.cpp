@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "core/error.h"
-#include "core/ray_io.h"
-#include "core/render.h"
-#include "core/zero_overhead.h"
+#include "core/base/error.h"
+#include "core/geometry/ray_io.h"
+#include "core/render/render.h"
+#include "core/accel/zero_overhead.h"
 #include "tests/test_util.h"
 
 namespace gs {

@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include "core/error.h"
-#include "core/scene.h"
+#include "core/base/error.h"
+#include "core/scene/scene.h"
 #include "tests/test_util.h"
 
 namespace gs {

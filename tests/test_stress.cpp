@@ -4,8 +4,8 @@
 
 #include <cstdio>
 
-#include "core/brute.h"
-#include "core/grid1d.h"
+#include "core/accel/brute.h"
+#include "core/accel/grid1d/grid1d.h"
 #include "tests/test_util.h"
 
 namespace gs {

@@ -8,9 +8,9 @@
 #include <glm/vec2.hpp>
 #include <memory>
 
-#include "core/brute.h"
-#include "core/octree.h"
-#include "core/uniform_grid.h"
+#include "core/accel/brute.h"
+#include "core/accel/octree.h"
+#include "core/accel/uniform_grid.h"
 #include "tests/test_util.h"
 
 namespace gs {

@@ -11,7 +11,7 @@
 #include <sstream>
 #include <thread>
 
-#include "core/brute.h"
+#include "core/accel/brute.h"
 
 namespace gs::test {
 

@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "core/accelerator.h"
-#include "core/ray.h"
-#include "core/scene.h"
+#include "core/accel/accelerator.h"
+#include "core/geometry/ray.h"
+#include "core/scene/scene.h"
 
 namespace gs::test {
 

@@ -14,7 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "core/camera.h"
+#include "core/scene/camera.h"
 #include "tests/test_util.h"
 
 namespace {

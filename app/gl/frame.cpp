@@ -13,7 +13,7 @@
 
 #include "app/gl/program.h"
 #include "app/gl/shaders.h"
-#include "core/render.h"
+#include "core/render/render.h"
 
 namespace gs::gl {
 

@@ -9,9 +9,9 @@
 #include <span>
 #include <vector>
 
-#include "core/camera.h"
-#include "core/overlay.h"
-#include "core/scene.h"
+#include "core/scene/camera.h"
+#include "core/render/overlay.h"
+#include "core/scene/scene.h"
 
 namespace gs::gl {
 

@@ -7,7 +7,7 @@
 #include <GL/osmesa.h>
 // clang-format on
 
-#include "core/error.h"
+#include "core/base/error.h"
 
 namespace gs::gl {
 

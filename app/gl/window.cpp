@@ -7,7 +7,7 @@
 #include <imgui.h>
 #include <imgui/backends/imgui_impl_glfw.h>
 
-#include "core/error.h"
+#include "core/base/error.h"
 
 namespace gs::gl {
 

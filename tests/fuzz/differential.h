@@ -2,9 +2,9 @@
 #pragma once
 #include <vector>
 
-#include "core/accelerator.h"
-#include "core/ray.h"
-#include "core/scene.h"
+#include "core/accel/accelerator.h"
+#include "core/geometry/ray.h"
+#include "core/scene/scene.h"
 #include "tests/fuzz/fuzz_entries.h"
 
 namespace gs::fuzz {

@@ -14,9 +14,9 @@
 #include <memory>
 #include <string>
 
-#include "core/brute.h"
-#include "core/error.h"
-#include "core/trace_run.h"
+#include "core/accel/brute.h"
+#include "core/base/error.h"
+#include "core/trace/trace_job.h"
 #include "tests/fuzz/differential.h"
 #include "tests/fuzz/fuzz_entries.h"
 

@@ -13,9 +13,9 @@
 #include <system_error>
 
 #include "app/cli.h"
-#include "core/error.h"
-#include "core/ray_io.h"
-#include "core/scene.h"
+#include "core/base/error.h"
+#include "core/geometry/ray_io.h"
+#include "core/scene/scene.h"
 #include "tests/fuzz/differential.h"
 
 namespace gs::fuzz {

@@ -1,0 +1,632 @@
+#include "bench/bench.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <thread>
+
+#include "bench/scenes.h"
+#include "bench/calibrate.h"
+#include "core/base/error.h"
+#include "core/render/render.h"
+#include "core/accel/zero_overhead.h"
+
+namespace gs {
+
+namespace {
+
+using nlohmann::json;
+
+// Image sizes, repetitions and time limits of a full or --quick run.
+struct Protocol {
+  int side;         // the paper's 512x512 (full)
+  int repetitions;  // warm renders whose median is reported
+  int sweep_side;   // parameter sweeps render this square image
+  int sweep_repetitions;
+  int convergence_side, convergence_spp;
+  // A render estimated to take longer than this is traced on every k-th row only (its time
+  // scaled by k and marked over_time_cap), so that a structure that breaks down on a scene
+  // (the uniform grid on lumpy) cannot stall the run.
+  double time_cap;
+  std::vector<std::string> convergence_scenes;
+};
+
+Protocol protocol_for(bool quick) {
+  if (quick) return {256, 3, 96, 2, 96, 6, 2.0, {"lumpy"}};
+  return {512, 5, 192, 3, 192, 16, 10.0, {"lumpy", "bunny-sibenik", "dragon"}};
+}
+
+const std::vector<std::string> kStructures = {"uniform", "octree", "grid3d",
+                                              "grid1d",  "bvh",    "embree"};
+
+// One structure parameter and the values its sweep takes (one at a time, the others at their
+// defaults): the same treatment for every structure, so that no baseline is left at a weak
+// setting (issue 4, "fair baselines").
+struct SweepAxis {
+  std::string param;
+  std::vector<double> values;
+};
+
+std::vector<SweepAxis> sweep_axes(const std::string& accel) {
+  if (accel == "uniform") return {{"density", {0.125, 0.25, 0.5, 1, 2, 4, 8}}};
+  if (accel == "octree")
+    return {{"max_depth", {4, 5, 6, 7, 8, 10}}, {"leaf_size", {1, 2, 4, 8, 16}}};
+  if (accel == "grid3d") return {{"max_depth", {1, 2, 3, 4}}, {"leaf_size", {4, 8, 16, 32, 64}}};
+  if (accel == "bvh") return {{"leaf_size", {1, 2, 4, 8, 16}}};
+  if (accel == "grid1d")
+    return {{"max_granularity", {2, 4, 8, 20, 32, 64}},
+            {"intcost", {0.5, 2}},
+            {"repcost", {0.1, 0.4}},
+            {"travcost", {0.5, 2}},
+            {"vertcost", {3, 12}},
+            {"subcost", {1, 4}}};
+  return {};
+}
+
+void set_param(AccelParams& params, const std::string& name, double value) {
+  if (name == "density")
+    params.density = value;
+  else if (name == "max_depth")
+    params.max_depth = int(value);
+  else if (name == "leaf_size")
+    params.leaf_size = int(value);
+  else if (name == "max_granularity")
+    params.max_granularity = int(value);
+  else if (name == "intcost")
+    params.intcost = value;
+  else if (name == "repcost")
+    params.repcost = value;
+  else if (name == "travcost")
+    params.travcost = value;
+  else if (name == "vertcost")
+    params.vertcost = value;
+  else if (name == "subcost")
+    params.subcost = value;
+}
+
+std::string first_line_of(const std::string& command) {
+  std::string line;
+  if (FILE* pipe = popen(command.c_str(), "r")) {
+    char buffer[256];
+    if (fgets(buffer, sizeof buffer, pipe)) line = buffer;
+    pclose(pipe);
+  }
+  while (!line.empty() && (line.back() == '\n' || line.back() == '\r')) line.pop_back();
+  return line.empty() ? "unknown" : line;
+}
+
+// The value after "key" in the first matching "key: value" / key="value" line of a file.
+std::string file_field(const std::string& path, const std::string& key, char separator) {
+  std::ifstream in(path);
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind(key, 0) == 0) {
+      std::string value = line.substr(line.find(separator) + 1);
+      value.erase(0, value.find_first_not_of(" \t\""));
+      value.erase(value.find_last_not_of(" \t\"") + 1);
+      return value;
+    }
+  return "unknown";
+}
+
+json machine_json() {
+  return {{"cpu", file_field("/proc/cpuinfo", "model name", ':')},
+          {"cores", int(std::thread::hardware_concurrency())},
+          {"os", file_field("/etc/os-release", "PRETTY_NAME", '=')},
+          {"compiler", std::string("GCC ") + __VERSION__}};
+}
+
+// The five section 6.2 constants of AccelParams or a Calibration (the same field names).
+template <class Constants>
+json cost_constants(const Constants& c) {
+  return {{"intcost", c.intcost},
+          {"repcost", c.repcost},
+          {"travcost", c.travcost},
+          {"vertcost", c.vertcost},
+          {"subcost", c.subcost}};
+}
+
+// What every record of one run shares.
+struct RunInfo {
+  json machine;
+  std::string commit;
+  uint64_t seed;
+  int repetitions;
+  bool quick;
+};
+
+// The reference for one scene and workload: its answers and image at the protocol's size.
+struct Reference {
+  std::string accel;
+  std::vector<Hit> answers;
+  Image image;
+};
+
+// One timed configuration: what is measured and against what.
+struct Config {
+  const BenchScene* scene;
+  Camera camera;
+  std::string accel;
+  AccelParams params;
+  RenderSettings settings;
+  int repetitions;
+  double time_cap;
+};
+
+json base_record(const RunInfo& run, const Config& config, const std::string& setting,
+                 const std::string& workload, const Reference* reference) {
+  const BenchScene& bench = *config.scene;
+  json record = {{"scene", bench.label},
+                 {"role", bench.role.empty() ? json(nullptr) : json(bench.role)},
+                 {"varying_complexity",
+                  bench.varying_complexity ? json(*bench.varying_complexity) : json(nullptr)},
+                 {"triangles", bench.scene->triangle_count()},
+                 {"accel", config.accel},
+                 {"setting", setting},
+                 {"params", config.params.to_json()},
+                 {"threads", config.settings.threads},
+                 {"workload", workload},
+                 {"width", config.settings.width},
+                 {"height", config.settings.height},
+                 {"spp", config.settings.spp},
+                 {"camera", to_string(config.camera)},
+                 {"machine", run.machine},
+                 {"commit", run.commit},
+                 {"seed", run.seed},
+                 {"repetitions", config.repetitions},
+                 {"quick", run.quick},
+                 {"reference", reference ? json(reference->accel) : json(nullptr)}};
+  for (const char* key :
+       {"build_seconds", "first_pass_seconds", "lazy_build_seconds", "trace_seconds", "rays",
+        "rays_per_second", "relative_to_zero", "memory_bytes", "nodes", "tests_per_ray",
+        "steps_per_ray", "disagreeing_rays", "image_rmse"})
+    record[key] = nullptr;
+  record["over_time_cap"] = false;
+  record["warm_seconds"] = json::array();
+  return record;
+}
+
+// Whether two nearest hits name the same triangle at the same distance. t is compared to a
+// relative 1e-5, not bit for bit: Embree's kernel rounds differently from ours (the suites
+// check our structures bit for bit against brute).
+bool same_nearest(const Hit& a, const Hit& b) {
+  if (a.id != b.id) return false;
+  return !a.found() || std::abs(a.t - b.t) <= 1e-5f * std::max(std::abs(a.t), std::abs(b.t));
+}
+
+// Rays whose answers differ from the reference's: a nearest hit must name the same triangle
+// at the same t; a shadow ray's any-hit answer may name another blocker, so only blocked or
+// not counts.
+uint64_t count_disagreements(const RenderSettings& settings, const std::vector<Hit>& answers,
+                             const std::vector<Hit>& reference) {
+  uint64_t differing = 0;
+  const size_t pixels = size_t(settings.width) * size_t(settings.height);
+  for (size_t pixel = 0; pixel < pixels; ++pixel)
+    for (int sample = 0; sample < settings.spp; ++sample)
+      for (int bounce = 0; bounce <= settings.bounces; ++bounce) {
+        const uint64_t near = render_ray_key(settings, pixel, sample, bounce, RayKind::nearest);
+        const uint64_t shadow = render_ray_key(settings, pixel, sample, bounce, RayKind::shadow);
+        differing += !same_nearest(answers[near], reference[near]);
+        differing += answers[shadow].found() != reference[shadow].found();
+      }
+  return differing;
+}
+
+// Renders every `stride`-th row (in the order the threads take them): a slow structure's
+// image, timed on a fraction of it.
+RenderOutcome strided_render(const BenchScene& bench, const Accelerator& accel,
+                             const Camera& camera, const RenderSettings& settings, int stride) {
+  std::atomic<int> turn{0};
+  const RowRunner every_kth = [&](const std::function<void()>& render_row) {
+    if (turn.fetch_add(1) % stride == 0) render_row();
+  };
+  return render_pass(*bench.scene, accel, camera, settings, 1, 0, nullptr, every_kth);
+}
+
+// The structure for a configuration: zero replays the reference's answers.
+std::unique_ptr<Accelerator> make_structure(const Config& config, const Reference* reference) {
+  if (config.accel == "zero") return std::make_unique<ZeroOverhead>(reference->answers);
+  return make_accelerator(config.accel, config.params);
+}
+
+// Estimated seconds of one full render, from every 32nd row (the rows in the order the
+// threads take them) until `budget` seconds have gone: so that the probe of a structure
+// that breaks down costs little. The probe's lazy building (at most 1/32 of the image) is
+// then missing from the first pass's figure.
+double estimate_render_seconds(const BenchScene& bench, const Accelerator& accel,
+                               const Camera& camera, const RenderSettings& settings,
+                               double budget) {
+  constexpr int kProbeStride = 32;
+  std::atomic<int> turn{0}, rendered{0};
+  const auto start = std::chrono::steady_clock::now();
+  const RowRunner probe = [&](const std::function<void()>& render_row) {
+    const bool in_time =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < budget;
+    if (turn.fetch_add(1) % kProbeStride == kProbeStride / 2 && in_time) {
+      render_row();
+      rendered.fetch_add(1);
+    }
+  };
+  const double seconds =
+      render_pass(*bench.scene, accel, camera, settings, 1, 0, nullptr, probe).seconds;
+  return seconds * double(settings.height) / double(std::max(1, rendered.load()));
+}
+
+void fill_structure_figures(json& record, const Accelerator& accel, const RenderOutcome& warm) {
+  const StructureStats stats = accel.stats();
+  record["memory_bytes"] = stats.memory_bytes;
+  record["nodes"] = stats.nodes ? json(*stats.nodes) : json(nullptr);
+  const double rays = double(std::max<uint64_t>(warm.rays, 1));
+  if (stats.counts_tests) record["tests_per_ray"] = double(warm.counters.intersection_tests) / rays;
+  if (stats.counts_steps) record["steps_per_ray"] = double(warm.counters.traversal_steps) / rays;
+}
+
+void fill_times(json& record, double trace_seconds, uint64_t rays) {
+  record["trace_seconds"] = trace_seconds;
+  record["rays"] = rays;
+  record["rays_per_second"] = trace_seconds > 0.0 ? double(rays) / trace_seconds : 0.0;
+}
+
+// A structure too slow for the time cap: one pass over every k-th row, scaled.
+void measure_over_cap(json& record, const Config& config, const Accelerator& accel,
+                      double estimate) {
+  const int stride = std::min(config.settings.height, int(std::ceil(estimate / config.time_cap)));
+  const RenderOutcome part =
+      strided_render(*config.scene, accel, config.camera, config.settings, stride);
+  record["over_time_cap"] = true;
+  record["first_pass_seconds"] = part.seconds * stride;
+  fill_times(record, part.seconds * stride, part.rays * uint64_t(stride));
+  fill_structure_figures(record, accel, part);
+}
+
+struct Measurement {
+  json record;
+  std::vector<Hit> answers;  // empty when over the time cap
+  Image image;
+};
+
+// Builds, renders once (the lazy build), renders `repetitions` more times and takes the median.
+Measurement measure(const RunInfo& run, const Config& config, const std::string& setting,
+                    const std::string& workload, const Reference* reference) {
+  Measurement result;
+  json& record = result.record;
+  record = base_record(run, config, setting, workload, reference);
+  const Scene& scene = *config.scene->scene;
+  std::unique_ptr<Accelerator> accel = make_structure(config, reference);
+  record["build_seconds"] = seconds_of([&] { accel->build(scene); }) + seconds_of([&] {
+                              sample_image(*accel, config.camera, config.settings);
+                            });
+  const double estimate = config.accel == "zero"
+                              ? 0.0
+                              : estimate_render_seconds(*config.scene, *accel, config.camera,
+                                                        config.settings, 0.05 * config.time_cap);
+  if (estimate > config.time_cap) {
+    measure_over_cap(record, config, *accel, estimate);
+    return result;
+  }
+  RenderOutcome first =
+      render_image(scene, *accel, config.camera, config.settings, &result.answers);
+  record["first_pass_seconds"] = first.seconds;
+  record["lazy_build_seconds"] = first.counters.lazy_build_seconds;
+  result.image = std::move(first.image);
+  std::vector<double> warm;
+  RenderOutcome last;
+  for (int r = 0; r < config.repetitions; ++r) {
+    last = render_image(scene, *accel, config.camera, config.settings);
+    warm.push_back(last.seconds);
+  }
+  record["warm_seconds"] = warm;
+  fill_times(record, median(warm), last.rays);
+  fill_structure_figures(record, *accel, last);
+  if (reference && !reference->answers.empty()) {
+    record["disagreeing_rays"] =
+        count_disagreements(config.settings, result.answers, reference->answers);
+    record["image_rmse"] = image_rmse(result.image.rgba, reference->image.rgba);
+  }
+  return result;
+}
+
+// brute when it is affordable (a few billion ray-triangle tests), else bvh, whose answers the
+// suites check equal to brute's bit for bit.
+Reference make_reference(const RunInfo& run, Config config) {
+  const double work =
+      double(config.scene->scene->triangle_count()) * double(render_ray_keys(config.settings));
+  config.accel = work < 3e9 && !run.quick ? "brute" : "bvh";
+  config.params = AccelParams{};
+  config.repetitions = 0;
+  config.time_cap = 1e30;
+  config.settings.threads = default_thread_count();
+  Measurement measured = measure(run, config, "reference", "reference", nullptr);
+  return {config.accel, std::move(measured.answers), std::move(measured.image)};
+}
+
+// A scene label as a file name: a user's path gives its file name's stem.
+std::string file_label(const std::string& label) {
+  return std::filesystem::path(label).stem().string();
+}
+
+std::string format_progress(const json& record, double elapsed) {
+  char line[256];
+  const double rate =
+      record["rays_per_second"].is_number() ? record["rays_per_second"].get<double>() * 1e-6 : 0.0;
+  std::snprintf(line, sizeof line, "[%6.1f s] %-14s %-8s %-10s t%d %-14s %8.3f Mrays/s%s", elapsed,
+                record["scene"].get<std::string>().c_str(),
+                record["accel"].get<std::string>().c_str(),
+                record["setting"].get<std::string>().c_str(), record["threads"].get<int>(),
+                record["workload"].get<std::string>().c_str(), rate,
+                record["over_time_cap"].get<bool>() ? " (over time cap: strided)" : "");
+  return line;
+}
+
+// The progressive renderer's error against its own converged image over wall time, from the
+// start of the build (issue 4, "run time against error"): a correct structure reaches zero
+// error at the last pass, a faster one sooner.
+class Convergence {
+ public:
+  Convergence(const BenchScene& bench, const Camera& camera, RenderSettings settings,
+              double time_limit)
+      : bench_(bench), camera_(camera), settings_(settings), time_limit_(time_limit) {
+    auto reference = make_accelerator("bvh", AccelParams{});
+    reference->build(*bench.scene);
+    converged_ = render_image(*bench.scene, *reference, camera, settings).image;
+  }
+
+  // [[seconds, rmse], ...] after each accumulation pass; stops early past the time limit.
+  json points(const std::string& accel_name) const {
+    json points = json::array();
+    const auto start = std::chrono::steady_clock::now();
+    auto elapsed = [&] {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    };
+    auto accel = make_accelerator(accel_name, AccelParams{});
+    accel->build(*bench_.scene);
+    sample_image(*accel, camera_, settings_);
+    RenderSettings one_sample = settings_;
+    one_sample.spp = 1;
+    // A structure that cannot make two passes in the time limit (the uniform grid on lumpy)
+    // gets no curve rather than stalling the run.
+    if (2.0 * estimate_render_seconds(bench_, *accel, camera_, one_sample, 0.05 * time_limit_) >
+        time_limit_)
+      return points;
+    std::vector<glm::vec3> sums(size_t(settings_.width) * size_t(settings_.height));
+    // The viewer's accumulation (core/progressive.cpp): the pass for spp N adds the samples
+    // render_image takes for spp N that the image does not have yet.
+    for (int spp = 2; spp <= settings_.spp && elapsed() < time_limit_; ++spp) {
+      RenderSettings pass = settings_;
+      pass.spp = spp;
+      const RenderOutcome outcome =
+          render_pass(*bench_.scene, *accel, camera_, pass, 1, spp == 2 ? 0 : spp - 1, &sums);
+      points.push_back({elapsed(), image_rmse(outcome.image.rgba, converged_.rgba)});
+    }
+    return points;
+  }
+
+ private:
+  const BenchScene& bench_;
+  Camera camera_;
+  RenderSettings settings_;
+  double time_limit_;
+  Image converged_;
+};
+
+class BenchRun {
+ public:
+  explicit BenchRun(const BenchOptions& options)
+      : options_(options), protocol_(protocol_for(options.quick)) {
+    run_.machine = machine_json();
+    run_.commit = first_line_of("git -C '" + std::string(GRIDSCOPE_SOURCE_DIR) +
+                                "' rev-parse HEAD 2>/dev/null");
+    run_.seed = options.seed;
+    run_.repetitions = protocol_.repetitions;
+    run_.quick = options.quick;
+    accels_ = options.accels;
+    if (accels_.empty()) {
+      const std::vector<std::string> built = accelerator_names();
+      for (const std::string& name : kStructures)
+        if (std::find(built.begin(), built.end(), name) != built.end()) accels_.push_back(name);
+    }
+  }
+
+  json run() {
+    calibrate_constants();
+    const std::string shared =
+        options_.shared_dir.empty() ? find_shared_dir() : options_.shared_dir;
+    for (const std::string& name :
+         options_.scenes.empty() ? bench_suite(options_.quick) : options_.scenes) {
+      std::string skipped;
+      const std::optional<BenchScene> bench = load_bench_scene(name, shared, skipped);
+      if (bench)
+        run_scene(*bench);
+      else
+        add({{"scene", name}, {"accel", nullptr}, {"workload", "skipped"}, {"reason", skipped}});
+    }
+    return records_;
+  }
+
+ private:
+  void add(json record) {
+    if (options_.progress && record["workload"] != "skipped" && record.contains("rays_per_second"))
+      options_.progress(format_progress(record, elapsed()));
+    else if (options_.progress)
+      options_.progress("skipped " + record.value("reason", std::string()));
+    records_.push_back(std::move(record));
+  }
+
+  double elapsed() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+
+  // The paper's section 6.2 constants measured on this machine (core/calibrate.h).
+  void calibrate_constants() {
+    if (std::find(accels_.begin(), accels_.end(), "grid1d") == accels_.end()) return;
+    CalibrateOptions calibrate_options;
+    calibrate_options.budget_seconds =
+        options_.quick ? CalibrateOptions::kQuickBudget : CalibrateOptions::kDefaultBudget;
+    calibrate_options.seed = options_.seed;
+    calibration_ = calibrate(calibrate_options);
+    records_.push_back({{"accel", "calibration"},
+                        {"workload", "calibration"},
+                        {"constants", cost_constants(*calibration_)},
+                        {"nanoseconds_per_unit", calibration_->nanoseconds_per_unit},
+                        {"detail", calibration_->detail},
+                        {"defaults", cost_constants(AccelParams{})},
+                        {"machine", run_.machine},
+                        {"commit", run_.commit}});
+  }
+
+  Config config(const BenchScene& bench, const std::string& accel, int side, int threads,
+                int bounces) const {
+    RenderSettings settings;
+    settings.width = settings.height = side;
+    settings.spp = 1;
+    settings.threads = threads;
+    settings.bounces = bounces;
+    settings.light = bench.light;
+    return {&bench,
+            camera_for(bench.camera, *bench.scene, settings),
+            accel,
+            AccelParams{},
+            settings,
+            protocol_.repetitions,
+            protocol_.time_cap};
+  }
+
+  std::vector<int> thread_counts() const {
+    return options_.threads > 1 ? std::vector<int>{1, options_.threads} : std::vector<int>{1};
+  }
+
+  void run_scene(const BenchScene& bench) {
+    for (const auto& [workload, bounces] :
+         {std::pair<const char*, int>{"primary_shadow", 0}, {"diffuse", 1}}) {
+      Reference reference = make_reference(run_, config(bench, "", protocol_.side, 1, bounces));
+      for (const int threads : thread_counts())
+        run_workload(bench, reference, workload, bounces, threads);
+      if (bounces == 0) {
+        if (!options_.image_dir.empty())
+          write_png(options_.image_dir + "/scene-" + file_label(bench.label) + ".png",
+                    reference.image.width, reference.image.height, reference.image.rgba);
+        primary_reference_ = std::move(reference);
+      }
+    }
+    if (calibration_)
+      run_full(bench, "grid1d", with_calibration(AccelParams{}, *calibration_), "calibrated");
+    run_sweeps(bench);
+    const auto& wanted = protocol_.convergence_scenes;
+    if (std::find(wanted.begin(), wanted.end(), bench.label) != wanted.end() || bench.role.empty())
+      run_convergence(bench);
+  }
+
+  // Every structure and the zero-overhead replay of the reference, at the protocol's size.
+  void run_workload(const BenchScene& bench, const Reference& reference, const char* workload,
+                    int bounces, int threads) {
+    Config zero = config(bench, "zero", protocol_.side, threads, bounces);
+    Measurement floor = measure(run_, zero, "default", workload, &reference);
+    const double zero_seconds = floor.record["trace_seconds"].get<double>();
+    floor.record["relative_to_zero"] = 1.0;
+    if (bounces == 0 && threads == 1) zero_seconds_ = zero_seconds;
+    add(std::move(floor.record));
+    for (const std::string& accel : accels_) {
+      Measurement m = measure(run_, config(bench, accel, protocol_.side, threads, bounces),
+                              "default", workload, &reference);
+      m.record["relative_to_zero"] = m.record["trace_seconds"].get<double>() / zero_seconds;
+      add(std::move(m.record));
+    }
+  }
+
+  // One structure at given parameters under the paper's protocol (1 thread, primary and shadow
+  // rays, full size), against the scene's reference and zero-overhead time.
+  void run_full(const BenchScene& bench, const std::string& accel, const AccelParams& params,
+                const std::string& setting) {
+    Config full = config(bench, accel, protocol_.side, 1, 0);
+    full.params = params;
+    Measurement m = measure(run_, full, setting, "primary_shadow", &primary_reference_);
+    m.record["relative_to_zero"] = m.record["trace_seconds"].get<double>() / zero_seconds_;
+    add(std::move(m.record));
+  }
+
+  // Each structure's parameters one at a time on a smaller image (1 thread, primary and
+  // shadow rays); the fastest point is measured again in full as the structure's "best".
+  void run_sweeps(const BenchScene& bench) {
+    for (const std::string& accel : accels_) {
+      std::optional<std::pair<double, AccelParams>> best;
+      for (const SweepAxis& axis : sweep_axes(accel))
+        for (const double value : axis.values) {
+          Config point = config(bench, accel, protocol_.sweep_side, 1, 0);
+          point.repetitions = protocol_.sweep_repetitions;
+          point.time_cap = protocol_.time_cap / 4;
+          set_param(point.params, axis.param, value);
+          Measurement m = measure(run_, point, "sweep", "sweep", nullptr);
+          m.record["sweep_param"] = axis.param;
+          m.record["sweep_value"] = value;
+          const double seconds = m.record["trace_seconds"].get<double>();
+          if (!m.record["over_time_cap"].get<bool>() && (!best || seconds < best->first))
+            best = {seconds, point.params};
+          add(std::move(m.record));
+        }
+      if (best) run_full(bench, accel, best->second, "best");
+    }
+  }
+
+  void run_convergence(const BenchScene& bench) {
+    Config setup = config(bench, "", protocol_.convergence_side, options_.threads, 1);
+    setup.settings.spp = protocol_.convergence_spp;
+    const Convergence convergence(bench, setup.camera, setup.settings, 4.0 * protocol_.time_cap);
+    for (const std::string& accel : accels_) {
+      setup.accel = accel;
+      json record = base_record(run_, setup, "default", "convergence", nullptr);
+      record["reference"] = "bvh";
+      record["points"] = convergence.points(accel);
+      records_.push_back(std::move(record));
+      if (options_.progress)
+        options_.progress(
+            "[" + std::to_string(int(elapsed())) + " s] " + bench.label + " " + accel +
+            " convergence: " + std::to_string(records_.back()["points"].size()) + " passes");
+    }
+  }
+
+  const BenchOptions& options_;
+  Protocol protocol_;
+  RunInfo run_;
+  std::vector<std::string> accels_;
+  std::optional<Calibration> calibration_;
+  Reference primary_reference_;
+  double zero_seconds_ = 0.0;
+  json records_ = json::array();
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+}  // namespace
+
+void check_bench_options(const BenchOptions& options) {
+  const std::vector<std::string> built = accelerator_names();
+  for (const std::string& accel : options.accels)
+    if (std::find(kStructures.begin(), kStructures.end(), accel) == kStructures.end() ||
+        std::find(built.begin(), built.end(), accel) == built.end())
+      throw UsageError("--accels: '" + accel + "' is not a structure this build can bench");
+  check_thread_count(options.threads);
+}
+
+nlohmann::json run_bench(const BenchOptions& options) {
+  check_bench_options(options);
+  return BenchRun(options).run();
+}
+
+double image_rmse(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+  if (a.size() != b.size() || a.size() % 4 != 0)
+    throw std::invalid_argument("image_rmse: images of different sizes");
+  double sum = 0.0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (i % 4 == 3) continue;  // alpha
+    const double d = double(a[i]) - double(b[i]);
+    sum += d * d;
+  }
+  const size_t channels = a.size() / 4 * 3;
+  return channels ? std::sqrt(sum / double(channels)) : 0.0;
+}
+
+}  // namespace gs

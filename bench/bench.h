@@ -1,0 +1,50 @@
+// `gridscope bench` (issue 4): the paper's experiment (section 7, Figure 12) redone for every
+// structure, plus the modern ones, as run time against error.
+//
+// Protocol: per scene, structure, thread count (1 and all cores) and workload
+// ("primary_shadow": the paper's one primary ray per pixel plus a shadow ray; "diffuse": one
+// more diffuse bounce with its own shadow ray), the structure is built, the image's sampling
+// pass run, a first render (with the lazy build) timed apart, then warm renders repeated and
+// their median taken. Each render's answers and image are compared with a reference
+// structure's (brute where affordable, else bvh, which the suites check equal to brute bit
+// for bit). The zero-overhead oracle replays the reference's answers (keyed by pixel, sample,
+// bounce and kind) to give the floor `relative_to_zero` divides by. Each structure's own
+// parameters are swept on a smaller image and its best setting measured again in full; the
+// progressive renderer's error is followed over wall time; grid1d is run with constants
+// calibrated on the machine. Records are described in README "Benchmark".
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/trace/trace_job.h"
+
+namespace gs {
+
+struct BenchOptions {
+  std::vector<std::string> scenes;       // suite names, builtin:NAME or paths; empty: the suite
+  std::vector<std::string> accels;       // empty: every structure this build has (but brute, zero)
+  bool quick = false;                    // smaller images, fewer repetitions, built-in scenes only
+  uint64_t seed = 1;                     // calibration's random scenes
+  int threads = default_thread_count();  // the "all cores" thread count
+  std::string shared_dir;                // ../shared; empty: find_shared_dir()
+  // When set, each scene's reference image (primary and shadow rays) is written there as
+  // scene-LABEL.png, so that a reader sees what was measured.
+  std::string image_dir;
+  // Called with one line per finished measurement (the progress line).
+  std::function<void(const std::string&)> progress;
+};
+
+// Throws UsageError for an unknown structure or scene name before measuring anything.
+void check_bench_options(const BenchOptions& options);
+
+// Runs the benchmark and returns its records (a JSON array). Scenes whose shared meshes are
+// missing are skipped with a "skipped" record naming why.
+nlohmann::json run_bench(const BenchOptions& options);
+
+// The 8-bit RGB root-mean-square difference of two equal-sized RGBA images.
+double image_rmse(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b);
+
+}  // namespace gs

@@ -1,0 +1,554 @@
+#include "bench/calibrate.h"
+
+#include <time.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <glm/geometric.hpp>
+#include <limits>
+#include <random>
+
+#include "core/scene/camera.h"
+#include "core/base/error.h"
+#include "core/accel/grid1d/grid1d.h"
+#include "core/render/render.h"
+#include "core/scene/scene.h"
+#include "core/trace/trace_job.h"
+
+namespace gs {
+namespace {
+
+using json = nlohmann::json;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// The five §6.2 constants, by name, in the calibration and in the structure parameters.
+// The work each constant is the cost of, in kCostConstants' order (kRayTerm: Subcost,
+// timed from the build).
+constexpr FitTerm kConstantTerms[] = {kTestTerm, kRejectionTerm, kStepTerm, kDescentTerm,
+                                      kRayTerm};
+static_assert(std::size(kConstantTerms) == std::size(kCostConstants));
+constexpr const char* kTermNames[kFitTerms] = {"ray", "test", "rejection", "step", "descent"};
+
+// A coefficient whose standard error is more than this share of it is noise, not a timing.
+constexpr double kMaxRelativeError = 0.5;
+// Below this pivot (of the equilibrated normal matrix, whose diagonal is 1) a column is a
+// combination of the ones before it.
+constexpr double kDependentPivot = 1e-9;
+
+// ---------------------------------------------------------------------------------------
+// The fit
+
+std::array<double, kFitTerms> counts_of(const WorkSample& row) {
+  return {1.0, row.tests, row.rejections, row.steps, row.descents};
+}
+
+// The weighted normal equations (X^T W X) c = X^T W y over some of the terms, equilibrated
+// (each column divided by its norm, so the matrix's diagonal is 1): `a` is p x p, row-major.
+struct NormalEquations {
+  size_t p = 0;
+  std::vector<double> a, b, scale;
+};
+
+NormalEquations normal_equations(std::span<const WorkSample> rows, const std::vector<int>& terms) {
+  const size_t p = terms.size();
+  NormalEquations eq{p, std::vector<double>(p * p, 0.0), std::vector<double>(p, 0.0),
+                     std::vector<double>(p, 0.0)};
+  for (const WorkSample& row : rows) {
+    if (!(row.seconds > 0.0)) continue;
+    const std::array<double, kFitTerms> x = counts_of(row);
+    const double w2 = 1.0 / (row.seconds * row.seconds);
+    for (size_t i = 0; i < p; ++i) {
+      eq.b[i] += w2 * x[terms[i]] * row.seconds;
+      for (size_t j = 0; j < p; ++j) eq.a[i * p + j] += w2 * x[terms[i]] * x[terms[j]];
+    }
+  }
+  for (size_t i = 0; i < p; ++i) eq.scale[i] = std::sqrt(eq.a[i * p + i]);
+  for (size_t i = 0; i < p; ++i) {
+    eq.b[i] /= eq.scale[i];
+    for (size_t j = 0; j < p; ++j) eq.a[i * p + j] /= eq.scale[i] * eq.scale[j];
+  }
+  return eq;
+}
+
+// a = L L^T in place (L in the lower triangle). Returns the first column that is a
+// combination of the ones before it, or -1.
+int cholesky(std::vector<double>& a, size_t p) {
+  for (size_t j = 0; j < p; ++j) {
+    double d = a[j * p + j];
+    for (size_t k = 0; k < j; ++k) d -= a[j * p + k] * a[j * p + k];
+    if (!(d > kDependentPivot)) return int(j);
+    a[j * p + j] = std::sqrt(d);
+    for (size_t i = j + 1; i < p; ++i) {
+      double s = a[i * p + j];
+      for (size_t k = 0; k < j; ++k) s -= a[i * p + k] * a[j * p + k];
+      a[i * p + j] = s / a[j * p + j];
+    }
+  }
+  return -1;
+}
+
+// Solves L L^T z = rhs by forward then back substitution.
+std::vector<double> cholesky_solve(const std::vector<double>& l, size_t p, std::vector<double> z) {
+  for (size_t i = 0; i < p; ++i) {
+    for (size_t k = 0; k < i; ++k) z[i] -= l[i * p + k] * z[k];
+    z[i] /= l[i * p + i];
+  }
+  for (size_t i = p; i-- > 0;) {
+    for (size_t k = i + 1; k < p; ++k) z[i] -= l[k * p + i] * z[k];
+    z[i] /= l[i * p + i];
+  }
+  return z;
+}
+
+// Fits `terms`: fills fit.seconds and, in fit.standard_error, the diagonal of the inverse
+// normal matrix (the caller scales it by the residual's variance). Returns the position in
+// `terms` of a column dependent on the ones before it (nothing filled), or -1.
+int fit_terms(std::span<const WorkSample> rows, const std::vector<int>& terms, CostFit& fit) {
+  NormalEquations eq = normal_equations(rows, terms);
+  if (const int dependent = cholesky(eq.a, eq.p); dependent >= 0) return dependent;
+  const std::vector<double> z = cholesky_solve(eq.a, eq.p, eq.b);
+  for (size_t i = 0; i < eq.p; ++i) {
+    std::vector<double> unit(eq.p, 0.0);
+    unit[i] = 1.0;
+    fit.seconds[terms[i]] = z[i] / eq.scale[i];
+    fit.standard_error[terms[i]] =
+        cholesky_solve(eq.a, eq.p, unit)[i] / (eq.scale[i] * eq.scale[i]);
+  }
+  return -1;
+}
+
+// Why a fitted term cannot be trusted as a timing; empty when it can.
+std::string why_unidentified(const CostFit& fit, int term) {
+  const auto ns = [](double seconds) { return std::to_string(seconds * 1e9) + " ns"; };
+  if (!fit.fitted[term])
+    return "no measurement varies its count apart from the others, so it was left out of the fit";
+  if (!(fit.seconds[term] > 0.0))
+    return "the fit gives " + ns(fit.seconds[term]) + ", not positive";
+  if (!(fit.standard_error[term] <= kMaxRelativeError * fit.seconds[term]))
+    return "its standard error (" + ns(fit.standard_error[term]) +
+           ") is more than half its value (" + ns(fit.seconds[term]) + ")";
+  return "";
+}
+
+json row_json(const WorkSample& row, const CostFit& fit) {
+  const double predicted = predicted_seconds(fit, row);
+  return {{"label", row.label},
+          {"rays", row.rays},
+          {"tests", row.tests},
+          {"rejections", row.rejections},
+          {"steps", row.steps},
+          {"descents", row.descents},
+          {"nanoseconds_per_ray", row.seconds * 1e9},
+          {"predicted_nanoseconds_per_ray", predicted * 1e9},
+          {"relative_error", predicted / row.seconds - 1.0}};
+}
+
+// ---------------------------------------------------------------------------------------
+// Synthetic scenes, each built so that one kind of work dominates and its count is known
+
+void add_triangle(Scene& scene, glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+  const uint32_t first = uint32_t(scene.vertices.size());
+  scene.vertices.insert(scene.vertices.end(), {a, b, c});
+  scene.triangles.push_back({first, first + 1, first + 2});
+}
+
+// A row of unit cubes along x, [0, cells] x [0, 1] x [0, 1]: a small triangle inside every
+// `stride`-th cell (and the last), in a corner of the yz square, and `slivers` thin
+// triangles along one edge spanning the whole row, so that every cell holds them all. The
+// rays of rays_along_row pass where no triangle lies: they walk every cell and test what
+// each holds, each sliver once and then meet it again in every cell (mailbox rejections).
+Scene cell_row(int cells, int stride, int slivers) {
+  Scene scene;
+  scene.name = "calibration row";
+  for (int i = 0; i < cells; ++i) {
+    const bool last = i == cells - 1;
+    if (i % stride != 0 && !last) continue;
+    // The first and last triangles touch the row's ends, so the cells are unit cubes.
+    const float x = i == 0 ? 0.0f : last ? float(cells) - 0.2f : float(i) + 0.4f;
+    const float corner = last || i % 2 == 1 ? 1.0f : 0.0f;
+    const float inward = corner == 0.0f ? 0.2f : -0.2f;
+    add_triangle(scene, {x, corner, corner}, {x + 0.2f, corner, corner},
+                 {x + 0.1f, corner + inward, corner + inward});
+  }
+  for (int k = 0; k < slivers; ++k) {
+    const float y = 0.05f * float(k) / float(slivers);
+    add_triangle(scene, {0.0f, y, 1.0f}, {float(cells), y, 1.0f}, {float(cells), y + 0.1f, 0.9f});
+  }
+  return scene;
+}
+
+// Rays through the row end to end, half of them each way, inside y, z in [0.2, 0.8].
+std::vector<Ray> rays_along_row(int cells, int count, std::mt19937_64& rng) {
+  std::uniform_real_distribution<float> middle(0.3f, 0.7f), tilt(-0.1f, 0.1f);
+  std::vector<Ray> rays(static_cast<size_t>(count));
+  for (int i = 0; i < count; ++i) {
+    const float sign = i % 2 == 0 ? 1.0f : -1.0f;
+    rays[i].origin = {sign > 0 ? -1.0f : float(cells) + 1.0f, middle(rng), middle(rng)};
+    rays[i].dir = {sign * (float(cells) + 2.0f), tilt(rng), tilt(rng)};
+  }
+  return rays;
+}
+
+// n^3 small triangles, one at the centre of each unit cube of [0, n]^3 (n a power of two).
+// Cut in halves along x, y, z in turn, every voxel down to depth 3 log2(n) holds two or
+// more, so a ray starting anywhere goes down that many subdivided voxels to its leaf.
+Scene lattice(int n) {
+  Scene scene;
+  scene.name = "calibration lattice";
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < n; ++k) {
+        const glm::vec3 c(float(i) + 0.5f, float(j) + 0.5f, float(k) + 0.5f);
+        add_triangle(scene, c + glm::vec3(-0.1f, -0.1f, 0.0f), c + glm::vec3(0.1f, -0.1f, 0.0f),
+                     c + glm::vec3(0.0f, 0.1f, 0.1f));
+      }
+  return scene;
+}
+
+// Rays from random points inside the lattice, ending long before they leave their cell:
+// the descent to the leaf and its one test are all they do.
+std::vector<Ray> short_rays_inside(int n, int count, std::mt19937_64& rng) {
+  std::uniform_real_distribution<float> inside(0.5f, float(n) - 0.5f);
+  std::normal_distribution<float> gauss;
+  std::vector<Ray> rays(static_cast<size_t>(count));
+  for (Ray& ray : rays) {
+    ray.origin = {inside(rng), inside(rng), inside(rng)};
+    ray.dir = glm::normalize(glm::vec3(gauss(rng), gauss(rng), gauss(rng)));
+    ray.tmax = 1e-3f;
+  }
+  return rays;
+}
+
+// Structure parameters that shape a scenario's structure (they do not touch the traversal
+// being timed): with only Intcost non-zero, every voxel whose cut separates its triangles
+// is cut as finely as max_granularity allows, down to max_depth.
+AccelParams shaping_params(int max_granularity, int max_depth) {
+  AccelParams params;
+  params.repcost = params.travcost = params.vertcost = params.subcost = 0.0;
+  params.max_granularity = max_granularity;
+  params.max_depth = max_depth;
+  return params;
+}
+
+struct Scenario {
+  std::string label;
+  Scene scene;
+  AccelParams params;
+  std::vector<Ray> rays;
+  // The work the construction makes dominate and its count per ray, given the structure
+  // built: confirmed against what the traversal counted.
+  FitTerm designed_term;
+  std::function<double(const Grid1D&)> designed;
+};
+
+constexpr int kRaysPerScenario = 2048;
+
+std::vector<Scenario> make_scenarios(std::mt19937_64& rng) {
+  std::vector<Scenario> scenarios;
+  const auto root_cells = [](const Grid1D& grid) { return double(grid.voxel(0).granularity); };
+  // One leaf (max granularity 1: nothing is cut) of n triangles: n tests per ray.
+  for (const int n : {8, 64, 512})
+    scenarios.push_back({"tests, leaf of " + std::to_string(n), cell_row(n, 1, 0),
+                         shaping_params(1, 0), rays_along_row(n, kRaysPerScenario, rng), kTestTerm,
+                         [n](const Grid1D&) { return double(n); }});
+  // The row cut into its cells, every other one holding a triangle: a step per cell.
+  for (const int cells : {16, 64, 256})
+    scenarios.push_back({"steps, " + std::to_string(cells) + " cells", cell_row(cells, 2, 0),
+                         shaping_params(cells, 1), rays_along_row(cells, kRaysPerScenario, rng),
+                         kStepTerm, [=](const Grid1D& grid) { return root_cells(grid) - 1.0; }});
+  // Slivers spanning the row: met again, and rejected, in every cell after the first.
+  constexpr int kSliverRowCells = 32;
+  for (const int slivers : {16, 64})
+    scenarios.push_back({"rejections, " + std::to_string(slivers) + " slivers",
+                         cell_row(kSliverRowCells, 1, slivers), shaping_params(kSliverRowCells, 1),
+                         rays_along_row(kSliverRowCells, kRaysPerScenario, rng), kRejectionTerm,
+                         [=](const Grid1D& grid) { return slivers * (root_cells(grid) - 1.0); }});
+  // Halved on x, y, z in turn down to single triangles: 3 log2(n) descents per ray.
+  for (const int levels : {1, 2, 3, 4}) {
+    const int n = 1 << levels;
+    scenarios.push_back({"descents, lattice of " + std::to_string(n) + "^3", lattice(n),
+                         shaping_params(2, 0), short_rays_inside(n, kRaysPerScenario, rng),
+                         kDescentTerm, [=](const Grid1D&) { return 3.0 * levels; }});
+  }
+  return scenarios;
+}
+
+// ---------------------------------------------------------------------------------------
+// Timing
+
+constexpr size_t kMinPasses = 5;
+constexpr size_t kMaxPasses = 1001;
+
+// CPU seconds of the calling thread: unlike wall time, not inflated while other processes
+// have the core (the machine is shared), so repeated passes measure the code.
+template <class Work>
+double cpu_seconds_of(Work&& work) {
+  timespec start, end;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &start);
+  work();
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &end);
+  return double(end.tv_sec - start.tv_sec) + 1e-9 * double(end.tv_nsec - start.tv_nsec);
+}
+
+// The median of `pass` (which returns the seconds it timed), run at least kMinPasses times
+// and until `share` seconds of wall time have gone.
+double median_of_passes(const std::function<double()>& pass, double share) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(share);
+  std::vector<double> times;
+  while (times.size() < kMinPasses ||
+         (std::chrono::steady_clock::now() < deadline && times.size() < kMaxPasses))
+    times.push_back(pass());
+  return median(times);
+}
+
+// Single-thread passes over the rays after one untimed pass (which builds what is lazy and
+// warms the caches): their median, per ray. `counters` gets a warm pass's counts (each
+// pass does the same work).
+double warm_seconds_per_ray(const Accelerator& accel, const std::vector<Ray>& rays, double share,
+                            TraceCounters& counters) {
+  std::vector<Hit> hits(rays.size());
+  const auto pass = [&] {
+    return cpu_seconds_of([&] {
+      counters = parallel_chunks(accel, rays.size(), rays.size(), 1,
+                                 [&](ThreadContext& context, size_t begin, size_t end) {
+                                   for (size_t i = begin; i < end; ++i)
+                                     hits[i] = accel.intersect(rays[i], context);
+                                 });
+    });
+  };
+  pass();
+  return median_of_passes(pass, share) / double(rays.size());
+}
+
+// The rays' work per ray and warm time per ray. Descents (set-ups in subdivided voxels)
+// come from each ray's recorded walk: the same traversal, with a recorder.
+WorkSample measure(const std::string& label, const Accelerator& accel, const std::vector<Ray>& rays,
+                   double share) {
+  TraceCounters counters;
+  WorkSample row;
+  row.label = label;
+  row.seconds = warm_seconds_per_ray(accel, rays, share, counters);
+  const std::unique_ptr<ThreadContext> context = accel.make_context();
+  double descents = 0.0;
+  for (const Ray& ray : rays) {
+    const Walk walk = accel.record_walk(ray, *context).value();
+    for (const WalkCell& cell : walk.cells) descents += double(cell.descents.size());
+  }
+  const double n = double(rays.size());
+  row.rays = n;
+  row.tests = double(counters.intersection_tests) / n;
+  row.rejections = double(counters.mailbox_rejections) / n;
+  row.steps = double(counters.traversal_steps) / n;
+  row.descents = descents / n;
+  return row;
+}
+
+// How far a scenario's measured count may be from its design (a ray starting near a wall
+// of the lattice steps once and goes down again).
+constexpr double kDesignTolerance = 0.01;
+
+WorkSample measure_scenario(const Scenario& scenario, double share, json& designs) {
+  Grid1D grid(scenario.params);
+  grid.build(scenario.scene);
+  grid.build_all();
+  const WorkSample row = measure(scenario.label, grid, scenario.rays, share);
+  const double designed = scenario.designed(grid);
+  const double measured = counts_of(row)[scenario.designed_term];
+  designs.push_back(
+      {{"label", scenario.label},
+       {"count", kTermNames[scenario.designed_term]},
+       {"designed", designed},
+       {"measured", measured},
+       {"as_designed", std::abs(measured - designed) <= kDesignTolerance * designed}});
+  return row;
+}
+
+// Real scenes: Subcost's builds, and the check of the fit on rays it was not fitted on.
+constexpr const char* kBuiltinScenes[] = {"pyramid", "lumpy"};
+
+// Subcost: eager builds of built-in scenes with the default parameters (no sampling pass:
+// every voxel is examined), each a fresh structure: the build_all seconds' median against
+// the triangles of the voxels that were cut.
+std::vector<BuildSample> measure_builds(double share) {
+  std::vector<BuildSample> builds;
+  for (const std::string name : kBuiltinScenes) {
+    const Scene scene = make_builtin_scene(name);
+    BuildSample build{"builtin:" + name};
+    const auto pass = [&] {
+      Grid1D grid{AccelParams{}};
+      grid.build(scene);
+      const double seconds = cpu_seconds_of([&] { grid.build_all(); });
+      build.voxels = double(grid.voxel_count());
+      build.triangles_sorted = 0.0;
+      for (uint32_t id = 0; id < grid.voxel_count(); ++id)
+        if (grid.voxel(id).status.load() == Grid1D::kSplit)
+          build.triangles_sorted += grid.voxel(id).tri_count;
+      return seconds;
+    };
+    build.seconds = median_of_passes(pass, share / double(std::size(kBuiltinScenes)));
+    builds.push_back(build);
+  }
+  return builds;
+}
+
+// The fit's prediction for real scenes it was not fitted on: grid1d with its defaults
+// (sampling pass, lazy) on camera rays of the built-in scenes' default views.
+json validate(const CostFit& fit, double share) {
+  constexpr int kSide = 128;
+  json rows = json::array();
+  for (const std::string name : kBuiltinScenes) {
+    const Scene scene = make_builtin_scene(name);
+    const Camera camera = frame_box(scene.bounds());
+    std::vector<Ray> rays;
+    for (int y = 0; y < kSide; ++y)
+      for (int x = 0; x < kSide; ++x) rays.push_back(camera.primary_ray(x, y, kSide, kSide));
+    const std::unique_ptr<Accelerator> grid = make_accelerator("grid1d", AccelParams{});
+    grid->build(scene);
+    RenderSettings settings;
+    settings.width = settings.height = kSide;
+    sample_image(*grid, camera, settings);
+    rows.push_back(
+        row_json(measure("builtin:" + name + ", default view", *grid, rays, share), fit));
+  }
+  return rows;
+}
+
+// Parts of the budget: traced rows (the synthetic scenes and the validation), builds.
+constexpr double kTraceShare = 0.85;
+
+}  // namespace
+
+CostFit fit_costs(std::span<const WorkSample> rows) {
+  CostFit fit;
+  std::vector<int> terms;
+  for (int t = 0; t < kFitTerms; ++t) {
+    fit.standard_error[t] = kInf;
+    for (const WorkSample& row : rows)
+      if (row.seconds > 0.0 && counts_of(row)[t] != 0.0) {
+        terms.push_back(t);
+        break;
+      }
+  }
+  // Drop dependent columns one at a time until the rest can be solved. The per-ray term
+  // comes first, so when it and a count cannot be told apart the count is the one dropped.
+  for (int dependent; !terms.empty() && (dependent = fit_terms(rows, terms, fit)) >= 0;)
+    terms.erase(terms.begin() + dependent);
+  for (const int t : terms) fit.fitted[t] = true;
+  for (int t = 0; t < kFitTerms; ++t)
+    if (!fit.fitted[t]) fit.seconds[t] = 0.0, fit.standard_error[t] = kInf;
+
+  double squares = 0.0;
+  size_t used = 0;
+  for (const WorkSample& row : rows) {
+    if (!(row.seconds > 0.0)) continue;
+    const double relative = predicted_seconds(fit, row) / row.seconds - 1.0;
+    squares += relative * relative;
+    ++used;
+  }
+  fit.rms_relative_residual = used > 0 ? std::sqrt(squares / double(used)) : 0.0;
+  const double variance = used > terms.size() ? squares / double(used - terms.size()) : kInf;
+  for (const int t : terms) fit.standard_error[t] = std::sqrt(variance * fit.standard_error[t]);
+  return fit;
+}
+
+double predicted_seconds(const CostFit& fit, const WorkSample& row) {
+  const std::array<double, kFitTerms> x = counts_of(row);
+  double seconds = 0.0;
+  for (int t = 0; t < kFitTerms; ++t) seconds += fit.seconds[t] * x[t];
+  return seconds;
+}
+
+Calibration calibration_from_measurements(std::span<const WorkSample> rows,
+                                          std::span<const BuildSample> builds) {
+  const CostFit fit = fit_costs(rows);
+  Calibration calibration;
+  json constants = json::object(), unidentified = json::object();
+  const std::string unit_problem = why_unidentified(fit, kTestTerm);
+  const double unit = unit_problem.empty() ? fit.seconds[kTestTerm] : 0.0;
+
+  double build_seconds = 0.0, triangles_sorted = 0.0;
+  json build_rows = json::array();
+  for (const BuildSample& build : builds) {
+    build_seconds += build.seconds;
+    triangles_sorted += build.triangles_sorted;
+    build_rows.push_back(
+        {{"label", build.label},
+         {"voxels", build.voxels},
+         {"triangles_sorted", build.triangles_sorted},
+         {"seconds", build.seconds},
+         {"nanoseconds_per_triangle", build.triangles_sorted > 0
+                                          ? json(build.seconds / build.triangles_sorted * 1e9)
+                                          : json(nullptr)}});
+  }
+  const double sort_seconds = triangles_sorted > 0.0 ? build_seconds / triangles_sorted : 0.0;
+
+  for (size_t k = 0; k < std::size(kCostConstants); ++k) {
+    const CostConstant& constant = kCostConstants[k];
+    const FitTerm term = kConstantTerms[k];
+    const bool from_build = term == kRayTerm;
+    const double seconds = from_build ? sort_seconds : fit.seconds[term];
+    std::string problem =
+        unit == 0.0 ? "intcost, the unit, is not measured: " + unit_problem
+        : from_build
+            ? (sort_seconds > 0.0 ? ""
+                                  : "the builds sorted no triangle into cells in measurable time")
+            : why_unidentified(fit, term);
+    if (problem.empty())
+      calibration.*constant.calibrated = seconds / unit;
+    else
+      unidentified[constant.name] = problem + "; kept the default";
+    constants[constant.name] = {
+        {"value", calibration.*constant.calibrated},
+        {"default", AccelParams{}.*constant.parameter},
+        {"measured", problem.empty()},
+        {"nanoseconds", seconds * 1e9},
+        {"standard_error_nanoseconds",
+         from_build ? json(nullptr) : json(fit.standard_error[term] * 1e9)},
+        {"work",
+         from_build ? "triangle sorted into cells (eager build)" : kTermNames[term]}};
+  }
+  calibration.nanoseconds_per_unit = unit * 1e9;
+
+  json fit_rows = json::array();
+  for (const WorkSample& row : rows) fit_rows.push_back(row_json(row, fit));
+  calibration.detail = {
+      {"constants", constants},
+      {"per_ray_nanoseconds", fit.seconds[kRayTerm] * 1e9},
+      {"fit",
+       {{"model",
+         "seconds per ray = ray + intcost tests + repcost rejections + travcost steps + "
+         "vertcost descents, least squares weighted by 1 / time"},
+        {"rms_relative_residual", fit.rms_relative_residual},
+        {"rows", fit_rows}}},
+      {"build", {{"triangles_sorted", triangles_sorted}, {"rows", build_rows}}},
+      {"unidentified", unidentified}};
+  return calibration;
+}
+
+Calibration calibrate(const CalibrateOptions& options) {
+  if (!(options.budget_seconds > 0.0) || !std::isfinite(options.budget_seconds))
+    throw UsageError("calibrate: the time budget must be a positive number of seconds");
+  const auto start = std::chrono::steady_clock::now();
+  std::mt19937_64 rng(options.seed);
+  const std::vector<Scenario> scenarios = make_scenarios(rng);
+  const double share =
+      options.budget_seconds * kTraceShare / double(scenarios.size() + std::size(kBuiltinScenes));
+  std::vector<WorkSample> rows;
+  json designs = json::array();
+  for (const Scenario& scenario : scenarios)
+    rows.push_back(measure_scenario(scenario, share, designs));
+  const std::vector<BuildSample> builds =
+      measure_builds(options.budget_seconds * (1.0 - kTraceShare));
+  Calibration calibration = calibration_from_measurements(rows, builds);
+  calibration.detail["designs"] = designs;
+  calibration.detail["validation"] = validate(fit_costs(rows), share);
+  calibration.detail["budget_seconds"] = options.budget_seconds;
+  calibration.detail["seed"] = options.seed;
+  calibration.detail["seconds"] =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return calibration;
+}
+
+}  // namespace gs

@@ -1,0 +1,72 @@
+// The code timings of Jevans 1990, section 6.2 (Intcost, Repcost, Travcost, Vertcost,
+// Subcost), measured on this machine by timing grid1d's own code paths through its public
+// interface: synthetic scenes in which one kind of work dominates, traced warm on one
+// thread (CPU time), and a least-squares fit of time per ray against the counts the
+// traversal itself reports; Subcost from the eager build timed apart. The constants are
+// relative (intcost = 1): the cost function only compares them with each other (§6.5).
+#pragma once
+#include <array>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <span>
+#include <string>
+
+#include "core/accel/grid1d/cost_constants.h"
+
+namespace gs {
+
+
+struct CalibrateOptions {
+  static constexpr double kDefaultBudget = 20.0;
+  static constexpr double kQuickBudget = 5.0;
+  double budget_seconds = kDefaultBudget;  // spent timing; setting scenes up comes on top
+  uint64_t seed = 1;                       // the rays of the synthetic scenes
+};
+
+// One batch of rays: its work per ray, as counted by the traversal, and its time per ray.
+struct WorkSample {
+  std::string label;
+  double rays = 0;
+  double tests = 0, rejections = 0, steps = 0, descents = 0;  // per ray
+  double seconds = 0;                                         // per ray, warm median
+};
+
+// One eager build: the triangles sorted into cells (the sum of N over the voxels cut,
+// what §6.5 charges Subcost for) and the time it took.
+struct BuildSample {
+  std::string label;
+  double triangles_sorted = 0;
+  double seconds = 0;
+  double voxels = 0;  // examined (reported, not fitted)
+};
+
+// The terms of time per ray = ray + a tests + b rejections + c steps + d descents.
+enum FitTerm { kRayTerm, kTestTerm, kRejectionTerm, kStepTerm, kDescentTerm, kFitTerms };
+
+struct CostFit {
+  std::array<double, kFitTerms> seconds{};  // per unit of each term
+  // Of each coefficient, from the residual; +inf where it cannot be estimated (no more rows
+  // than terms, or the term left out).
+  std::array<double, kFitTerms> standard_error{};
+  // False for a term no row varies independently of the others: left out of the fit.
+  std::array<bool, kFitTerms> fitted{};
+  double rms_relative_residual = 0.0;  // of the rows' times
+};
+
+// Least squares of the rows' seconds per ray against their counts, each row weighted by
+// 1 / its time so that fast and slow rows count alike (relative residuals). Rows whose time
+// is not positive are left out.
+CostFit fit_costs(std::span<const WorkSample> rows);
+double predicted_seconds(const CostFit& fit, const WorkSample& row);
+
+// The constants from measurements: the fit's coefficients over the test's, Subcost from the
+// builds' seconds per triangle sorted. A coefficient that is left out, not positive, or
+// whose standard error exceeds half its value keeps its default.
+Calibration calibration_from_measurements(std::span<const WorkSample> rows,
+                                          std::span<const BuildSample> builds);
+
+// Measures on this machine (one thread). Throws UsageError for a budget that is not a
+// positive number of seconds.
+Calibration calibrate(const CalibrateOptions& options);
+
+}  // namespace gs

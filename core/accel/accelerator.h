@@ -1,0 +1,143 @@
+// The one surface every acceleration structure has (DESIGN.md §2): build, bounds,
+// intersect, occluded, stats; made by name from one factory. Dispatch is once per ray; the
+// inner loops behind intersect/occluded are non-virtual.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <nlohmann/json_fwd.hpp>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/geometry/ray.h"
+#include "core/scene/scene.h"
+#include "core/accel/walk.h"
+
+namespace gs {
+
+enum class AxisRule { alternate, cost };
+
+// Parameter ranges (README "Limits"), checked in one place, make_accelerator, so that a bad
+// value is a one-line usage error whoever sets it (CLI, viewer, tests). Granularity times
+// depth cannot explode: grid1d caps each axis's absolute granularity (the product of the
+// g's above a voxel) at 2^50, the octree's depth at 20 (2^20 finest cells per side) and
+// grid3d's at 16, and every structure's memory is bounded by memory_budget.
+inline constexpr int kMaxGranularity = 4096;  // cells one voxel is cut into
+inline constexpr int kMaxDepth = 64;          // tree depth; a structure's own cap may be lower
+inline constexpr int kMaxLeafSize = 1 << 20;
+// Lazy structures reserve (never commit) address space for several arrays of up to the
+// budget each; 1 TiB keeps that within the 128 TiB of an x86-64 process.
+inline constexpr uint64_t kMaxMemoryBudget = uint64_t{1} << 40;
+
+// Every structure parameter, named after the paper (§6.2) where the paper names it.
+// Each run echoes these into its stats.
+struct AccelParams {
+  // Section 6.2 code timings, relative units (calibrated constants come later).
+  double intcost = 1.0;   // one ray/triangle test
+  double repcost = 0.2;   // a mailbox-rejected repeat
+  double travcost = 1.0;  // one cell step
+  double vertcost = 6.0;  // initialising a ray in a subdivided voxel
+  double subcost = 2.0;   // sorting one triangle into a voxel's cells
+  int max_granularity = 20;
+  AxisRule axis = AxisRule::alternate;
+  // Each structure's own limits; 0 means the structure's default (grid1d: depth 32; the
+  // octree, nested grid and BVH document theirs).
+  int max_depth = 0;     // tree depth cap
+  int leaf_size = 0;     // triangles a node may hold before it is split (octree, grid3d, bvh)
+  double density = 0.0;  // uniform grid: cells per triangle (0: the paper's cbrt(N) per side)
+  uint64_t memory_budget = uint64_t{8} << 30;  // bytes of structure, reserved not committed
+  // Sampling pass (§6.5): one sample ray per this many rays of the run.
+  int sample_every = 64;
+  // embree: threads its device builds with (0: all cores). Tracing threads are --threads.
+  int build_threads = 0;
+  // zero: the hit file of an earlier run over the same rays (required by "zero").
+  std::string oracle_path;
+
+  nlohmann::json to_json() const;
+  int depth_or(int fallback) const { return max_depth > 0 ? max_depth : fallback; }
+  int leaf_size_or(int fallback) const { return leaf_size > 0 ? leaf_size : fallback; }
+};
+
+// Counters a tracing thread accumulates; merged by the caller at the end of a run.
+struct TraceCounters {
+  uint64_t intersection_tests = 0;  // real ray/triangle tests, mailbox rejections excluded
+  uint64_t mailbox_rejections = 0;
+  uint64_t traversal_steps = 0;     // cell-to-cell steps
+  uint64_t voxels_built = 0;        // voxels this thread examined (cut or made leaves) lazily
+  double lazy_build_seconds = 0.0;  // time this thread spent building voxels
+
+  void add(const TraceCounters& other);
+};
+
+// Per-thread scratch a structure needs while tracing (mailboxes, traversal state values).
+// Owned by exactly one thread at a time.
+class ThreadContext {
+ public:
+  static constexpr uint64_t kNoRayIndex = ~uint64_t{0};
+  virtual ~ThreadContext() = default;
+  TraceCounters counters;
+  // The key of the ray being traced, set before each call: its position in the ray file
+  // (run_trace) or its render_ray_key (pixel, sample, bounce, kind; the renderer), never
+  // dependent on thread scheduling; kNoRayIndex elsewhere (sampling pass, walks). Only
+  // "zero" reads it: its oracle is indexed by it.
+  uint64_t ray_index = kNoRayIndex;
+};
+
+// Structure figures; std::nullopt where a structure cannot measure one (written as null).
+struct StructureStats {
+  std::optional<uint64_t> nodes;
+  std::optional<uint64_t> voxels_subdivided;
+  std::optional<uint64_t> leaves;
+  std::optional<uint64_t> traversal_states;
+  uint64_t memory_bytes = 0;
+  double build_seconds =
+      0.0;  // up-front build plus the sampling pass (lazy work is added by callers)
+  // Voxels or nodes left leaves because their cut would exceed the memory budget (the
+  // uniform grid: cells its resolution wanted that the budget did not allow).
+  uint64_t voxels_over_budget = 0;
+  // False for a structure whose tests (with its mailbox rejections) or cell steps cannot be
+  // counted (embree): run_stats writes those counters as null instead of a made-up 0.
+  bool counts_tests = true;
+  bool counts_steps = true;
+};
+
+class Accelerator {
+ public:
+  virtual ~Accelerator() = default;
+  virtual std::string name() const = 0;
+
+  // Builds what is built up front. The scene must outlive the structure.
+  virtual void build(const Scene& scene) = 0;
+  // The paper's sampling pass (§6.5): a regular subset of the run's rays, traced before the
+  // run so that the cost function knows how many rays cross a voxel. Default: nothing.
+  virtual void sample(std::span<const Ray> sample_rays, double rays_in_run);
+  // Builds everything a lazy structure would build on demand (--eager). Default: nothing.
+  virtual void build_all() {}
+
+  virtual Box bounds() const = 0;
+  virtual std::unique_ptr<ThreadContext> make_context() const = 0;
+  // Nearest hit with tmin < t <= tmax, lowest id among equal t; a miss for invalid rays.
+  virtual Hit intersect(const Ray& ray, ThreadContext& context) const = 0;
+  // Some hit with tmin < t <= tmax (not necessarily the nearest), or a miss; the walk stops
+  // at the first one found. Shadow rays and `trace --occluded`.
+  virtual Hit any_hit(const Ray& ray, ThreadContext& context) const = 0;
+  bool occluded(const Ray& ray, ThreadContext& context) const {
+    return any_hit(ray, context).found();
+  }
+  virtual StructureStats stats() const = 0;
+  // The nearest-hit search for one ray, cell by cell, by the same code that traces; for a
+  // structure without cells to walk (brute), nothing.
+  virtual std::optional<Walk> record_walk(const Ray& /*ray*/, ThreadContext& /*context*/) const {
+    return std::nullopt;
+  }
+};
+
+std::vector<std::string> accelerator_names();
+// Throws UsageError for an unknown name or a parameter out of range (check_params).
+std::unique_ptr<Accelerator> make_accelerator(const std::string& name, const AccelParams& params);
+// Throws UsageError naming the flag when a parameter is outside the ranges above or the
+// depth exceeds structure `name`'s own cap.
+void check_params(const std::string& name, const AccelParams& params);
+
+}  // namespace gs

@@ -1,0 +1,296 @@
+#include "core/accel/bvh.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+namespace gs {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr int kBins = 16;
+constexpr double kTraversalCost = 1.0, kIntersectionCost = 1.0;
+
+struct DBox {
+  double lo[3] = {kInf, kInf, kInf}, hi[3] = {-kInf, -kInf, -kInf};
+  void extend(const DBox& b) {
+    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], b.lo[a]), hi[a] = std::max(hi[a], b.hi[a]);
+  }
+  double area() const {
+    if (lo[0] > hi[0]) return 0.0;
+    const double e[3] = {hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
+    return 2.0 * (e[0] * e[1] + e[1] * e[2] + e[2] * e[0]);
+  }
+};
+
+// Rounded outward to float, so the float box contains the double one.
+float round_down(double x) {
+  float f = float(x);
+  return double(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+}
+float round_up(double x) {
+  float f = float(x);
+  return double(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+}
+
+}  // namespace
+
+// Build state: per usable triangle its padded box and centroid; nodes appended in
+// depth-first order with siblings adjacent.
+struct Bvh::Builder {
+  Bvh& bvh;
+  std::vector<DBox> boxes;
+  std::vector<std::array<double, 3>> centroids;
+  std::vector<uint32_t> ids;  // reordered into leaf order
+  const std::vector<TriangleVerts>& verts;
+
+  struct Split {
+    int axis = -1;
+    int bin = 0;  // triangles with bin <= this go left
+    double cost = kInf;
+    double lo = 0, scale = 0;
+  };
+
+  int bin_of(uint32_t id, const Split& s) const {
+    return std::clamp(int((centroids[id][s.axis] - s.lo) * s.scale), 0, kBins - 1);
+  }
+
+  // The binned SAH over [begin, end): the cheapest split among the 15 bin borders of
+  // each axis whose centroids are not all equal.
+  Split best_split(uint32_t begin, uint32_t end, double parent_area) const {
+    Split best;
+    for (int a = 0; a < 3; ++a) {
+      double lo = kInf, hi = -kInf;
+      for (uint32_t i = begin; i < end; ++i)
+        lo = std::min(lo, centroids[ids[i]][a]), hi = std::max(hi, centroids[ids[i]][a]);
+      if (!(hi > lo)) continue;
+      Split s{a, 0, kInf, lo, kBins / (hi - lo)};
+      DBox bins[kBins];
+      uint32_t counts[kBins] = {};
+      for (uint32_t i = begin; i < end; ++i) {
+        const int b = bin_of(ids[i], s);
+        bins[b].extend(boxes[ids[i]]), ++counts[b];
+      }
+      double right_area[kBins];
+      uint32_t right_count[kBins];
+      DBox right;
+      uint32_t n = 0;
+      for (int b = kBins - 1; b > 0; --b) {
+        right.extend(bins[b]), n += counts[b];
+        right_area[b] = right.area(), right_count[b] = n;
+      }
+      DBox left;
+      uint32_t m = 0;
+      for (int b = 0; b + 1 < kBins; ++b) {
+        left.extend(bins[b]), m += counts[b];
+        if (m == 0 || right_count[b + 1] == 0) continue;
+        const double cost =
+            kTraversalCost + kIntersectionCost *
+                                 (left.area() * m + right_area[b + 1] * right_count[b + 1]) /
+                                 parent_area;
+        if (cost < best.cost) best = s, best.bin = b, best.cost = cost;
+      }
+    }
+    return best;
+  }
+
+  // Splits [begin, end) and returns the middle; by the SAH split if there is one, else
+  // at the median along the axis where centroids spread most (or in half, when they are
+  // all equal: coincident triangles).
+  uint32_t partition(uint32_t begin, uint32_t end, const Split& split) {
+    if (split.axis >= 0) {
+      const auto mid = std::partition(ids.begin() + begin, ids.begin() + end,
+                                      [&](uint32_t id) { return bin_of(id, split) <= split.bin; });
+      return uint32_t(mid - ids.begin());
+    }
+    const uint32_t mid = begin + (end - begin) / 2;
+    int axis = 0;
+    double spread = -1.0;
+    for (int a = 0; a < 3; ++a) {
+      double lo = kInf, hi = -kInf;
+      for (uint32_t i = begin; i < end; ++i)
+        lo = std::min(lo, centroids[ids[i]][a]), hi = std::max(hi, centroids[ids[i]][a]);
+      if (hi - lo > spread) spread = hi - lo, axis = a;
+    }
+    std::nth_element(ids.begin() + begin, ids.begin() + mid, ids.begin() + end,
+                     [&](uint32_t x, uint32_t y) {
+                       return centroids[x][axis] < centroids[y][axis] ||
+                              (centroids[x][axis] == centroids[y][axis] && x < y);
+                     });
+    return mid;
+  }
+
+  void make_leaf(uint32_t node, uint32_t begin, uint32_t end) {
+    bvh.nodes_[node].first = uint32_t(bvh.triangles_.size());
+    bvh.nodes_[node].count = end - begin;
+    for (uint32_t i = begin; i < end; ++i) bvh.triangles_.push_back({verts[ids[i]], ids[i]});
+    ++bvh.leaves_;
+  }
+
+  void build(uint32_t node, uint32_t begin, uint32_t end, int depth) {
+    DBox box;
+    for (uint32_t i = begin; i < end; ++i) box.extend(boxes[ids[i]]);
+    for (int a = 0; a < 3; ++a)
+      bvh.nodes_[node].lo[a] = round_down(box.lo[a]), bvh.nodes_[node].hi[a] = round_up(box.hi[a]);
+    const uint32_t n = end - begin;
+    if (n <= 1 || depth + 1 >= bvh.max_depth_) return make_leaf(node, begin, end);
+    const Split split = best_split(begin, end, box.area());
+    const double leaf_cost = kIntersectionCost * n;
+    if (n <= uint32_t(bvh.leaf_size_) && !(split.cost < leaf_cost))
+      return make_leaf(node, begin, end);
+    // Nodes are the only part that grows with splitting (each triangle is copied once
+    // whatever the tree): a split whose two children would exceed the budget is not made.
+    // Depth first, so under a tight budget the first subtrees get the nodes.
+    if ((bvh.nodes_.size() + 2) * sizeof(Node) > bvh.memory_budget_) {
+      ++bvh.over_budget_;
+      return make_leaf(node, begin, end);
+    }
+    const uint32_t mid = partition(begin, end, split);
+    const uint32_t left = uint32_t(bvh.nodes_.size());
+    bvh.nodes_.resize(bvh.nodes_.size() + 2);
+    bvh.nodes_[node].first = left;
+    bvh.nodes_[node].count = 0;
+    build(left, begin, mid, depth + 1);
+    build(left + 1, mid, end, depth + 1);
+  }
+};
+
+Bvh::Bvh(const AccelParams& params)
+    : leaf_size_(params.leaf_size_or(kDefaultLeafSize)),
+      max_depth_(std::min(params.depth_or(kDefaultMaxDepth), kMaxDepthCap)),
+      memory_budget_(params.memory_budget) {}
+
+void Bvh::build(const Scene& scene) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<TriangleVerts> verts = gather_triangles(scene);
+  bounds_ = scene.bounds();
+  root_ = ClipBox(bounds_);
+  nodes_.clear(), triangles_.clear(), leaves_ = over_budget_ = 0;
+  Builder builder{*this, std::vector<DBox>(verts.size()), {}, {}, verts};
+  builder.centroids.resize(verts.size());
+  for (uint32_t id = 0; id < verts.size(); ++id) {
+    if (scene.is_degenerate(id)) continue;
+    const TriangleVerts& t = verts[id];
+    const glm::dvec3 lo = glm::min(t.v0, glm::min(t.v1, t.v2));
+    const glm::dvec3 hi = glm::max(t.v0, glm::max(t.v1, t.v2));
+    for (int a = 0; a < 3; ++a) {
+      // Padded by the kernel's possible error (ClipBox): never cull a reported hit.
+      builder.boxes[id].lo[a] = lo[a] - root_.padding;
+      builder.boxes[id].hi[a] = hi[a] + root_.padding;
+      builder.centroids[id][a] = 0.5 * (lo[a] + hi[a]);
+    }
+    builder.ids.push_back(id);
+  }
+  if (!builder.ids.empty()) {
+    nodes_.reserve(std::min<uint64_t>(2 * builder.ids.size(), memory_budget_ / sizeof(Node) + 1));
+    nodes_.resize(1);
+    builder.build(0, 0, uint32_t(builder.ids.size()), 0);
+  }
+  nodes_.shrink_to_fit();
+  build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::unique_ptr<ThreadContext> Bvh::make_context() const {
+  return std::make_unique<ThreadContext>();
+}
+
+// The ray as the slab test reads it, in double: a node's box is entered at the returned t
+// within [t_lo, t_hi], or kInf when the ray misses it there.
+struct Bvh::RayBox {
+  double origin[3], inv_dir[3];
+  bool zero[3];
+  double t_lo;
+  double entry(const Node& node, double t_hi) const {
+    double t0 = t_lo, t1 = t_hi;
+    for (int a = 0; a < 3; ++a) {
+      if (zero[a]) {
+        if (origin[a] < node.lo[a] || origin[a] > node.hi[a]) return kInf;
+        continue;
+      }
+      double ta = (double(node.lo[a]) - origin[a]) * inv_dir[a];
+      double tb = (double(node.hi[a]) - origin[a]) * inv_dir[a];
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta), t1 = std::min(t1, tb);
+    }
+    return t0 <= t1 ? t0 : kInf;
+  }
+};
+
+Hit Bvh::intersect(const Ray& ray, ThreadContext& context) const {
+  return trace<false>(ray, context);
+}
+
+Hit Bvh::any_hit(const Ray& ray, ThreadContext& context) const { return trace<true>(ray, context); }
+
+// Clips as brute does, then walks the tree nearer child first, skipping every node that
+// begins beyond the nearest hit so far (ties kept by `closer`, so an equal-t hit in a
+// later node still wins by its lower id).
+template <bool AnyHit>
+Hit Bvh::trace(const Ray& ray, ThreadContext& context) const {
+  Hit best;
+  double t_enter, t_leave;
+  RayBox rb;
+  if (nodes_.empty() || !root_.clip(ray, t_enter, t_leave, rb.inv_dir)) return best;
+  for (int a = 0; a < 3; ++a) {
+    rb.origin[a] = ray.origin[a];
+    rb.zero[a] = ray.dir[a] == 0.0f;
+  }
+  const double slack = walk_slack(ray, root_.magnitude);
+  rb.t_lo = t_enter - slack;
+  const PreparedRay<KernelReal> prepared(ray, t_enter);
+  float tmax = ray.tmax;
+  TraceCounters& counters = context.counters;
+  struct Entry {
+    uint32_t node;
+    double t;
+  };
+  Entry stack[kMaxDepthCap + 2];
+  int top = 0;
+  const double t_root = rb.entry(nodes_[0], stop_distance(tmax, slack));
+  if (t_root < kInf) stack[top++] = {0, t_root};
+  while (top > 0) {
+    const Entry e = stack[--top];
+    if (e.t > stop_distance(tmax, slack)) continue;
+    const Node& node = nodes_[e.node];
+    ++counters.traversal_steps;
+    if (node.count > 0) {
+      for (uint32_t i = node.first; i < node.first + node.count; ++i) {
+        const PackedTriangle& tri = triangles_[i];
+        ++counters.intersection_tests;
+        float t, u, v;
+        if (intersect_triangle(prepared, tri.verts.v0, tri.verts.v1, tri.verts.v2, tmax, t, u, v) &&
+            closer(t, int32_t(tri.id), best)) {
+          best = {int32_t(tri.id), t, u, v};
+          tmax = t;
+          if (AnyHit) return best;
+        }
+      }
+      continue;
+    }
+    const double t_hi = stop_distance(tmax, slack);
+    const double ta = rb.entry(nodes_[node.first], t_hi);
+    const double tb = rb.entry(nodes_[node.first + 1], t_hi);
+    const bool a_first = ta <= tb;
+    const Entry near{a_first ? node.first : node.first + 1, a_first ? ta : tb};
+    const Entry far{a_first ? node.first + 1 : node.first, a_first ? tb : ta};
+    if (far.t < kInf) stack[top++] = far;
+    if (near.t < kInf) stack[top++] = near;
+  }
+  return best;
+}
+
+StructureStats Bvh::stats() const {
+  StructureStats s;
+  s.nodes = nodes_.size();
+  s.leaves = leaves_;
+  s.voxels_subdivided = nodes_.size() - leaves_;
+  s.traversal_states = std::nullopt;
+  s.memory_bytes = nodes_.size() * sizeof(Node) + triangles_.size() * sizeof(PackedTriangle);
+  s.build_seconds = build_seconds_;
+  s.voxels_over_budget = over_budget_;
+  return s;
+}
+
+}  // namespace gs

@@ -1,0 +1,180 @@
+// The hierarchical adaptive 1D grid of Jevans, "Ray Tracing Scenes of Varying Local
+// Complexity" (1990). Each voxel is a leaf or is cut along one axis into g equal cells
+// (§4); g is chosen by the §6 cost function from the five code timings and the number of
+// rays the §6.5 sampling pass saw; voxels are cut only when a ray first walks into them
+// (§4, lazy); voxels cut along the same axis with the same absolute granularity share one
+// traversal state (§4, §5.2.2); ray-id mailboxing stops repeated tests (§6.4).
+#pragma once
+#include <array>
+#include <atomic>
+#include <mutex>
+#include <unordered_map>
+#include <vector>
+
+#include "core/accel/accelerator.h"
+#include "core/accel/grid1d/cost_model.h"
+#include "core/geometry/kernel.h"
+#include "core/base/stable_array.h"
+
+namespace gs {
+
+// The §6 cost model as it stands for one voxel: the figures it was fed, the best cut per
+// axis and the cost of every granularity (for the viewer's inspector). Recomputed from the
+// voxel, the sample and the parameters, the same pure function the build evaluates.
+struct VoxelCostReport {
+  uint32_t voxel = 0;
+  uint32_t depth = 0;
+  int axis = -1;                  // the cut the build made, or -1 for a leaf
+  int granularity = 1;            // 1 for a leaf
+  VoxelFigures figures;           // N, extents, mean sizes, estimated rays
+  double subdivision_cost = 0.0;  // Subcost * N (§6.5)
+  std::vector<AxisPlan> plans;    // per axis that can be cut: best g, costs, pays or not
+  struct Alternative {
+    int axis;
+    int granularity;
+    CutCost cost;  // per ray
+  };
+  std::vector<Alternative> alternatives;
+};
+
+class Grid1D final : public Accelerator {
+ public:
+  explicit Grid1D(const AccelParams& params);
+  ~Grid1D() override;
+
+  std::string name() const override { return "grid1d"; }
+  void build(const Scene& scene) override;
+  void sample(std::span<const Ray> sample_rays, double rays_in_run) override;
+  void build_all() override;
+  Box bounds() const override { return bounds_; }
+  std::unique_ptr<ThreadContext> make_context() const override;
+  Hit intersect(const Ray& ray, ThreadContext& context) const override;
+  Hit any_hit(const Ray& ray, ThreadContext& context) const override;
+  StructureStats stats() const override;
+  std::optional<Walk> record_walk(const Ray& ray, ThreadContext& context) const override;
+
+  static constexpr uint32_t kNone = UINT32_MAX;  // "no voxel above": the scene box itself
+
+  // One global uniform 1D grid: the scene box's extent on `axis` cut into `granularity`
+  // slabs. Every voxel cut along `axis` with absolute granularity G has its walls on the
+  // grid (axis, G), so the ray's position on it is shared by all of them (§4).
+  struct StateInfo {
+    double origin;         // scene box low bound on the axis
+    double extent;         // scene box extent on the axis
+    double scale;          // granularity / extent: slabs per unit length
+    double width;          // extent / granularity: one slab
+    uint64_t granularity;  // absolute granularity G
+    uint32_t axis;
+  };
+
+  // A voxel. The status is the lazy build's publication flag: fields are written before
+  // a release store of kSplit or kLeaf and read after an acquire load. The triangle list
+  // (ids) is set when the voxel is created and never changes, so a voxel being cut can
+  // still be searched as a leaf; a finished leaf also gets its triangles packed.
+  struct Voxel {
+    std::atomic<uint8_t> status;
+    uint8_t axis;
+    uint16_t granularity;  // g: cells of this voxel's 1D array
+    uint32_t state;        // traversal state (axis, absolute granularity)
+    uint32_t tri_begin, tri_count;
+    // Unions: one member or the other by status, keeping the voxel at 40 bytes.
+    union {
+      uint32_t first_child;   // kSplit: the g cells are voxels first_child .. + g - 1
+      uint32_t first_packed;  // kLeaf: its triangles at packed_[first_packed ..], or kNone
+    };
+    union {
+      uint32_t above[3];  // kSplit: nearest proper ancestor cut along each axis, or kNone
+      // An empty cell (a leaf from birth): how many cells from this one on are empty,
+      // going up [0] and down [1] its parent's array. The walk crosses them in one go.
+      uint32_t empty_run[2];
+    };
+    uint64_t first_cell;  // J0: index of cell 0 on the state's global grid
+  };
+  // A leaf's triangle as the kernel reads it, stored with the leaf's others so that a
+  // leaf's tests read one contiguous run of memory. A triangle that lies in this leaf only
+  // cannot have been tested by the ray before, so it skips the mailbox.
+  struct PackedTriangle {
+    TriangleVerts verts;
+    uint32_t id : 31;
+    uint32_t only_here : 1;
+  };
+  enum Status : uint8_t { kUnexamined = 0, kBuilding, kLeaf, kSplit };
+
+  // Read access for tests, the viewer and statistics (valid once tracing has stopped).
+  size_t voxel_count() const { return voxels_.size(); }
+  const Voxel& voxel(uint32_t id) const { return voxels_[id]; }
+  const StateInfo& state_info(uint32_t id) const { return states_[id]; }
+  size_t state_count() const { return states_.size(); }
+  // The voxel's box, from its slab on each axis's global grid (exact walls).
+  void voxel_box(uint32_t id, double lo[3], double hi[3]) const;
+  uint32_t voxel_depth(uint32_t id) const;
+  // Call while no thread traces (the figures read the voxel's triangle list and sample).
+  VoxelCostReport cost_report(uint32_t id) const;
+  // Rays that used each traversal state (counted once per ray, merged when a tracing
+  // thread's context ends).
+  uint64_t state_rays(uint32_t state) const;
+
+ private:
+  class Context;
+  struct Region;
+  struct Cut;
+  struct SampleRay;
+  struct RayWalk;
+  class WalkRecorder;
+
+  template <bool AnyHit, class Recorder>
+  Hit trace(const Ray& ray, Context& context, Recorder& recorder) const;
+  template <class Recorder>
+  uint32_t descend(uint32_t voxel, double t_cur, int entered_axis, RayWalk& walk, Context& context,
+                   uint8_t& status, Recorder& recorder) const;
+  uint8_t examine(uint32_t voxel, Context& context) const;
+  template <class Recorder>
+  uint32_t cross_empty_run(uint32_t cell, int s, uint32_t state, RayWalk& walk, Context& context,
+                           Recorder& recorder) const;
+  uint32_t pack_leaf(uint32_t voxel) const;
+  template <bool AnyHit, class Recorder>
+  bool test_leaf(uint32_t voxel, uint8_t status, const PreparedRay<KernelReal>& prepared,
+                 uint64_t ray_id, float& tmax, Hit& best, Context& context,
+                 Recorder& recorder) const;
+  Cut plan_cut(uint32_t voxel) const;
+  VoxelFigures figures_of(uint32_t voxel, const double lo[3], const double hi[3]) const;
+  std::array<int, 3> granularity_limits(uint32_t voxel, const VoxelFigures& figures,
+                                        const double lo[3], const double hi[3]) const;
+  bool sort_into_cells(uint32_t voxel, int axis, int g, const double lo[3], const double hi[3],
+                       Cut& cut) const;
+  bool commit_cut(uint32_t voxel, const Cut& cut) const;
+  double estimated_rays(uint32_t voxel) const;
+  uint32_t state_for(uint32_t axis, uint64_t granularity) const;
+
+  // `first` (an append's result) unless the append failed: then a UsageError naming `what`.
+  size_t fits_budget(size_t first, const char* what) const;
+  AccelParams params_;
+  std::vector<TriangleVerts> triangles_;
+  std::vector<double> tri_box_;  // per triangle lo.xyz, hi.xyz, padded (see build)
+  Box bounds_;
+  ClipBox root_;  // the root voxel: the padded scene box every ray is clipped to
+  size_t degenerate_ = 0;
+  double build_seconds_ = 0.0;
+
+  // The sampling pass (§6.5): sample rays, their segments clipped at hits once known.
+  std::vector<SampleRay> sample_;
+  double rays_per_sample_ = 0.0;  // rays in the run / rays in the sample
+  bool sampled_ = false;
+
+  // Lazily grown storage: appended by whichever thread cuts a voxel, never moved.
+  mutable std::mutex state_mutex_;  // guards state_ids_
+  mutable StableArray<Voxel> voxels_;
+  mutable StableArray<Region> regions_;
+  mutable StableArray<uint32_t> tri_indices_;
+  mutable StableArray<PackedTriangle> packed_;
+  mutable StableArray<uint32_t> sample_indices_;
+  mutable StableArray<StateInfo> states_;
+  mutable StableArray<std::atomic<uint64_t>> state_rays_;  // parallel to states_
+  mutable std::unordered_map<uint64_t, uint32_t> state_ids_;
+  mutable std::atomic<uint64_t> subdivided_{0};
+  mutable std::atomic<uint64_t> over_budget_{0};
+  mutable std::atomic<uint64_t> bytes_used_{0};
+  bool reserve_bytes(uint64_t bytes) const;
+};
+
+}  // namespace gs

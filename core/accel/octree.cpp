@@ -1,0 +1,242 @@
+#include "core/accel/octree.h"
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+
+namespace gs {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// A cut whose children hold this many copies of each triangle on average, one of them all
+// of the triangles, separates nothing (see Octree::split).
+constexpr uint64_t kInseparableCopies = 2;
+
+}  // namespace
+
+Octree::Octree(const AccelParams& params)
+    : depth_(std::clamp(params.depth_or(kDefaultMaxDepth), 1, kDepthCap)),
+      leaf_size_(size_t(params.leaf_size_or(kDefaultLeafSize))),
+      memory_budget_(params.memory_budget) {}
+
+void Octree::build(const Scene& scene) {
+  const auto start = std::chrono::steady_clock::now();
+  triangles_ = gather_triangles(scene);
+  bounds_ = scene.bounds();
+  box_ = ClipBox(bounds_);
+  std::vector<uint32_t> usable;
+  degenerate_ = 0;
+  tri_box_ = box_.padded_boxes(triangles_);
+  for (uint32_t id = 0; id < triangles_.size(); ++id) {
+    if (scene.is_degenerate(id))
+      ++degenerate_;
+    else
+      usable.push_back(id);
+  }
+  fine_ = uint32_t{1} << depth_;
+  inv_fine_ = 1.0 / double(fine_);
+  set_cell_extents();
+  nodes_.assign(1, Node{0, 0});
+  refs_.clear();
+  planned_refs_ = usable.size();
+  leaves_ = internal_ = over_budget_ = 0;
+  depth_reached_ = 0;
+  const uint32_t origin[3] = {0, 0, 0};
+  build_node(0, 0, origin, usable);
+  tri_box_ = {};
+  build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The root's cells span the scene box, except along an axis thinner than the finest cell
+// of the longest one (a flat or nearly flat scene): there every triangle would straddle
+// every cut and be copied into both halves at each level, 2^depth copies in all. Such an
+// axis's cells span the longest extent from the box's low side instead, so the whole scene
+// stays in the first cell along it and nothing is copied. Rays are still clipped to the
+// scene box, as brute clips them.
+void Octree::set_cell_extents() {
+  double longest = 0.0;
+  for (int a = 0; a < 3; ++a) longest = std::max(longest, box_.hi[a] - box_.lo[a]);
+  for (int a = 0; a < 3; ++a) {
+    const double extent = box_.hi[a] - box_.lo[a];
+    cell_extent_[a] = extent < longest * inv_fine_ ? longest : extent;
+    fine_scale_[a] = cell_extent_[a] > 0.0 ? double(fine_) / cell_extent_[a] : 0.0;
+  }
+}
+
+// Glassner's rule: a node with more than leaf-size triangles is cut into 8, unless the depth
+// cap is reached or the cut separates nothing (below). Depth first, children contiguous.
+void Octree::build_node(uint32_t node, int depth, const uint32_t lo[3],
+                        std::vector<uint32_t>& tris) {
+  std::vector<uint32_t> children[8];
+  if (tris.size() > leaf_size_ && depth < depth_ && split(node, depth, lo, tris, children)) {
+    const uint32_t first = uint32_t(nodes_.size());
+    nodes_.resize(nodes_.size() + 8);
+    nodes_[node] = {first, kInternal};
+    ++internal_;
+    tris = {};  // free the parent's list before the children's subtrees
+    const uint32_t half = fine_ >> (depth + 1);
+    for (uint32_t k = 0; k < 8; ++k) {
+      const uint32_t child_lo[3] = {lo[0] + (k & 1) * half, lo[1] + ((k >> 1) & 1) * half,
+                                    lo[2] + ((k >> 2) & 1) * half};
+      build_node(first + k, depth + 1, child_lo, children[k]);
+    }
+    return;
+  }
+  nodes_[node] = {uint32_t(refs_.size()), uint32_t(tris.size())};
+  refs_.insert(refs_.end(), tris.begin(), tris.end());
+  ++leaves_;
+  depth_reached_ = std::max(depth_reached_, depth);
+}
+
+// Sorts the node's triangles into its 8 children by padded box overlap with the children's
+// closed boxes (a triangle touching the mid-plane goes into both halves). False, leaving a
+// leaf, when the cut separates nothing: one child keeps every triangle while each sits in
+// two children or more on average (coincident or nearly coincident triangles straddling
+// the cut, DESIGN.md §1; cutting again only copies them). A child keeping everything with
+// little straddling (a cluster inside one octant) is cut. False too when the nodes and
+// references planned so far (every open list counted as the leaf it may yet become) plus
+// this cut's would exceed the memory budget: the finished tree then stays within it.
+bool Octree::split(uint32_t /*node*/, int depth, const uint32_t lo[3],
+                   const std::vector<uint32_t>& tris, std::vector<uint32_t> (&children)[8]) {
+  const uint32_t half = fine_ >> (depth + 1);
+  double mid[3];
+  for (int a = 0; a < 3; ++a) mid[a] = wall(a, lo[a] + half);
+  for (const uint32_t id : tris) {
+    const double* box = &tri_box_[size_t(id) * 6];
+    unsigned low = 0, high = 0;  // per axis bit: overlaps the lower / upper half
+    for (int a = 0; a < 3; ++a) {
+      low |= unsigned(box[a] <= mid[a]) << a;
+      high |= unsigned(box[a + 3] >= mid[a]) << a;
+    }
+    for (unsigned k = 0; k < 8; ++k)
+      if ((high & k) == k && (low & ~k & 7u) == (~k & 7u)) children[k].push_back(id);
+  }
+  size_t largest = 0;
+  uint64_t refs = 0;
+  for (const auto& child : children) {
+    largest = std::max(largest, child.size());
+    refs += child.size();
+  }
+  if (largest == tris.size() && refs >= kInseparableCopies * tris.size()) return false;
+  const uint64_t planned = planned_refs_ + refs - tris.size();
+  const uint64_t bytes = (nodes_.size() + 8) * sizeof(Node) + planned * sizeof(uint32_t);
+  if (bytes > memory_budget_ || planned >= UINT32_MAX) {
+    ++over_budget_;
+    return false;
+  }
+  planned_refs_ = planned;
+  return true;
+}
+
+// A wall of the finest level from its integer index: lo + extent * (i / 2^depth), the same
+// double for every level that names it (scaling by a power of two is exact).
+double Octree::wall(int axis, uint64_t fine_index) const {
+  return box_.lo[axis] + cell_extent_[axis] * (double(fine_index) * inv_fine_);
+}
+
+// The finest cell holding coordinate p, clamped into the box; off by one only within
+// rounding of a wall, which the triangles' padding covers.
+uint32_t Octree::fine_cell(int axis, double p) const {
+  const double cell = (p - box_.lo[axis]) * fine_scale_[axis];
+  return uint32_t(std::clamp(cell, 0.0, double(fine_ - 1)));
+}
+
+// Glassner's point location from the root, on integer coordinates: one bit per level.
+Octree::Located Octree::locate(const uint32_t fine[3]) const {
+  uint32_t node = 0;
+  int d = 0;
+  while (nodes_[node].count == kInternal) {
+    const int shift = depth_ - 1 - d;
+    const uint32_t octant = ((fine[0] >> shift) & 1) | (((fine[1] >> shift) & 1) << 1) |
+                            (((fine[2] >> shift) & 1) << 2);
+    node = nodes_[node].first + octant;
+    ++d;
+  }
+  Located out;
+  out.node = node;
+  out.size = fine_ >> d;
+  for (int a = 0; a < 3; ++a) out.lo[a] = fine[a] & ~(out.size - 1);
+  return out;
+}
+
+std::unique_ptr<ThreadContext> Octree::make_context() const {
+  return std::make_unique<MailboxContext>();
+}
+
+Hit Octree::intersect(const Ray& ray, ThreadContext& context) const {
+  return trace<false>(ray, static_cast<MailboxContext&>(context));
+}
+
+Hit Octree::any_hit(const Ray& ray, ThreadContext& context) const {
+  return trace<true>(ray, static_cast<MailboxContext&>(context));
+}
+
+// Glassner's walk: locate the leaf holding the current point, test it, leave it through its
+// nearest wall and locate the finest cell just beyond. The cell on the exit axis is the
+// neighbour's by integer arithmetic; on the other axes it comes from the exit point, kept
+// inside the leaf just left and never behind the previous cell, so the walk always advances
+// (it ends after at most 3 * 2^depth leaves). As in brute, the kernel sees the origin moved to
+// the box entry; the walk stops once a leaf's exit passes the nearest hit plus the slack.
+template <bool AnyHit>
+Hit Octree::trace(const Ray& ray, MailboxContext& context) const {
+  Hit best;
+  double t_enter, t_leave, inv_dir[3];
+  if (!box_.clip(ray, t_enter, t_leave, inv_dir)) return best;
+  const double slack = walk_slack(ray, box_.magnitude);
+  double origin[3], dir[3];
+  int step[3];
+  uint32_t fine[3];
+  for (int a = 0; a < 3; ++a) {
+    origin[a] = ray.origin[a], dir[a] = ray.dir[a];
+    step[a] = step_of(ray.dir[a]);
+    fine[a] = fine_cell(a, origin[a] + t_enter * dir[a]);
+  }
+  const PreparedRay<KernelReal> prepared(ray, t_enter);
+  float tmax = ray.tmax;
+  const uint64_t ray_id = context.next_ray();
+  uint64_t leaves = 0;
+  for (;;) {
+    const Located leaf = locate(fine);
+    ++leaves;
+    const Node& node = nodes_[leaf.node];
+    if (test_triangles<AnyHit>(refs_.data() + node.first, node.count, triangles_.data(), prepared,
+                               ray_id, tmax, best, context) &&
+        AnyHit)
+      break;
+    double t_exit = kInf;
+    int s = -1;
+    for (int a = 0; a < 3; ++a) {
+      if (step[a] == 0) continue;
+      const uint32_t index = step[a] > 0 ? leaf.lo[a] + leaf.size : leaf.lo[a];
+      const double t = (wall(a, index) - origin[a]) * inv_dir[a];
+      if (t < t_exit) t_exit = t, s = a;
+    }
+    if (s < 0 || t_exit > stop_distance(tmax, slack)) break;
+    const uint32_t next = step[s] > 0 ? leaf.lo[s] + leaf.size : leaf.lo[s] - 1;
+    if (next >= fine_) break;  // left the box (below 0 wraps around)
+    for (int c = 0; c < 3; ++c) {
+      if (c == s || step[c] == 0) continue;
+      const uint32_t at = fine_cell(c, origin[c] + t_exit * dir[c]);
+      const uint32_t last = leaf.lo[c] + leaf.size - 1;
+      fine[c] = step[c] > 0 ? std::clamp(at, fine[c], last) : std::clamp(at, leaf.lo[c], fine[c]);
+    }
+    fine[s] = next;
+  }
+  context.counters.traversal_steps += leaves;
+  return best;
+}
+
+StructureStats Octree::stats() const {
+  StructureStats s;
+  s.nodes = nodes_.size();
+  s.leaves = leaves_;
+  s.voxels_subdivided = internal_;
+  s.traversal_states = std::nullopt;
+  s.memory_bytes = triangles_.size() * sizeof(TriangleVerts) + nodes_.size() * sizeof(Node) +
+                   refs_.size() * sizeof(uint32_t);
+  s.build_seconds = build_seconds_;
+  s.voxels_over_budget = over_budget_;
+  return s;
+}
+
+}  // namespace gs

@@ -1,0 +1,9 @@
+#include "core/base/error.h"
+
+namespace gs {
+
+void fail_input(const std::string& file, const std::string& problem) {
+  throw InputError(file + ": " + problem);
+}
+
+}  // namespace gs

@@ -1,0 +1,461 @@
+#include "core/render/progressive.h"
+
+#include <algorithm>
+#include <exception>
+#include <glm/vec3.hpp>
+#include <new>
+#include <nlohmann/json.hpp>
+
+#include "core/base/error.h"
+
+namespace gs {
+
+namespace {
+
+constexpr int kCoarseBlock = 8;  // the coarse pass: one ray per 8x8 block
+
+// What a structure is a function of: when a restart keeps these, it keeps the structure
+// (a camera or size change only lets the lazy structure grow). The scene is held so that it
+// outlives the structure built over it.
+struct StructureKey {
+  std::shared_ptr<const Scene> scene;
+  std::string accel;
+  nlohmann::json params;
+
+  explicit StructureKey(const ViewSetup& setup)
+      : scene(setup.scene), accel(setup.accel), params(setup.params.to_json()) {}
+  bool operator==(const StructureKey& other) const {
+    return scene == other.scene && accel == other.accel && params == other.params;
+  }
+};
+
+// A width x height image with spp samples per pixel; render's defaults otherwise.
+RenderSettings image_settings(int width, int height, int spp, int threads) {
+  RenderSettings settings;
+  settings.width = width, settings.height = height, settings.spp = spp, settings.threads = threads;
+  return settings;
+}
+
+uint32_t saturating_add(uint32_t a, uint32_t b) { return a > UINT32_MAX - b ? UINT32_MAX : a + b; }
+
+// Inside a catch block: what the exception says, on one line (the UI and stderr show it).
+std::string caught_error_line() {
+  std::string message = "unknown error";
+  try {
+    throw;
+  } catch (const std::exception& error) {
+    message = error.what();
+  } catch (...) {
+  }
+  std::replace(message.begin(), message.end(), '\n', ' ');
+  return message.empty() ? "unknown error" : message;
+}
+
+}  // namespace
+
+struct ProgressiveRenderer::State {
+  // --- Guarded by `mutex`.
+  std::mutex mutex;
+  std::condition_variable work_cv;       // the controller: a new generation, or stop
+  std::condition_variable structure_cv;  // record_walk: the structure settled, or stop
+  bool stop = false;
+  uint64_t generation = 0;
+  ViewSetup setup;
+  // Whether the current generation's structure is known (built and sampled, or failed, or
+  // none for no scene); `structure` is it then (null: none).
+  bool settled = true;
+  std::shared_ptr<Accelerator> structure;
+  // The controller's built and sampled structure and what it was built from: a restart with
+  // the same key settles at once on it.
+  std::shared_ptr<Accelerator> ready;
+  std::optional<StructureKey> ready_key;
+  std::shared_ptr<const ProgressiveFrame> frame;  // the newest finished pass (immutable)
+
+  // --- Read by the rendering threads without the mutex.
+  std::atomic<uint64_t> live_generation{0};  // rows of any other generation are skipped
+  std::atomic<bool> stopping{false};
+  std::atomic<bool> busy{false};
+
+  // --- The tracing gate: rows and record_walk trace "shared", with_structure_paused visits
+  // "exclusive". A pending visit holds new rows back, so visits cannot starve.
+  std::mutex gate_mutex;
+  std::condition_variable gate_cv;
+  int tracing = 0;         // rows and walks in flight
+  int pause_requests = 0;  // visits waiting or running
+  bool visiting = false;
+
+  // --- The controller's own (only its thread touches these).
+  double lazy_seconds = 0.0;  // lazy building in the passes over `ready`, for its stats
+
+  std::thread controller;
+
+  void enter_tracing() {
+    std::unique_lock lock(gate_mutex);
+    gate_cv.wait(lock, [&] { return pause_requests == 0; });
+    ++tracing;
+  }
+  void leave_tracing() {
+    std::lock_guard lock(gate_mutex);
+    if (--tracing == 0 && pause_requests > 0) gate_cv.notify_all();
+  }
+  void enter_visit() {
+    std::unique_lock lock(gate_mutex);
+    ++pause_requests;
+    gate_cv.wait(lock, [&] { return tracing == 0 && !visiting; });
+    visiting = true;
+  }
+  void leave_visit() {
+    std::lock_guard lock(gate_mutex);
+    visiting = false;
+    --pause_requests;
+    gate_cv.notify_all();
+  }
+
+  // RAII holders of the gate.
+  class Tracing {
+   public:
+    explicit Tracing(State& state) : state_(state) { state_.enter_tracing(); }
+    ~Tracing() { state_.leave_tracing(); }
+    Tracing(const Tracing&) = delete;
+    Tracing& operator=(const Tracing&) = delete;
+
+   private:
+    State& state_;
+  };
+  class Visiting {
+   public:
+    explicit Visiting(State& state) : state_(state) { state_.enter_visit(); }
+    ~Visiting() { state_.leave_visit(); }
+    Visiting(const Visiting&) = delete;
+    Visiting& operator=(const Visiting&) = delete;
+
+   private:
+    State& state_;
+  };
+
+  // Whether the newest setup still asks for a structure made from `key`.
+  bool wanted(const StructureKey& key) {
+    std::lock_guard lock(mutex);
+    return !stop && StructureKey(setup) == key;
+  }
+
+  void controller_loop();
+  void run_generation(uint64_t gen, const ViewSetup& setup, std::shared_ptr<Accelerator> accel);
+};
+
+void ProgressiveRenderer::State::controller_loop() {
+  uint64_t done = 0;
+  for (;;) {
+    uint64_t gen = 0;
+    ViewSetup current;
+    std::shared_ptr<Accelerator> accel;
+    {
+      std::unique_lock lock(mutex);
+      work_cv.wait(lock, [&] { return stop || generation != done; });
+      if (stop) return;
+      gen = done = generation;
+      current = setup;
+      if (!current.scene || current.width <= 0 || current.height <= 0) {
+        // Nothing to render: no structure, no frames.
+        settled = true;
+        structure.reset();
+        busy = false;
+        structure_cv.notify_all();
+        continue;
+      }
+      if (ready && ready_key && *ready_key == StructureKey(current)) {
+        accel = ready;
+        if (!settled) {
+          settled = true;
+          structure = ready;
+          structure_cv.notify_all();
+        }
+      } else {
+        // Dropped under the lock, so no restart from now on can settle on it.
+        ready.reset();
+        ready_key.reset();
+      }
+    }
+    run_generation(gen, current, std::move(accel));
+  }
+}
+
+void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& setup,
+                                                std::shared_ptr<Accelerator> accel) {
+  auto abandoned = [&] {
+    return stopping.load(std::memory_order_relaxed) ||
+           live_generation.load(std::memory_order_relaxed) != gen;
+  };
+  int last_pass = 0;
+  try {
+    const int w = setup.width, h = setup.height;
+    const RenderSettings centre = image_settings(w, h, 1, setup.threads);
+    check_render_settings(centre);
+    if (!accel) {
+      // A new structure: built and sampled here (not cancellable; the image's sampling pass
+      // with spp 1, as `trace --sample-image WxH` does it).
+      std::shared_ptr<Accelerator> built = make_accelerator(setup.accel, setup.params);
+      built->build(*setup.scene);
+      // Parameters changed (or the window closed) during the build: skip the sampling pass
+      // of a structure nobody will use. A camera change keeps it: it still fits.
+      if (!wanted(StructureKey(setup))) return;
+      sample_image(*built, setup.camera, centre);
+      lazy_seconds = 0.0;
+      std::lock_guard lock(mutex);
+      ready = built;
+      ready_key.emplace(setup);
+      if (generation != gen) return;  // the next generation may still use it
+      settled = true;
+      structure = built;
+      structure_cv.notify_all();
+      accel = std::move(built);
+    }
+
+    const RowRunner run_row = [&](const std::function<void()>& row) {
+      if (abandoned()) return;
+      Tracing hold(*this);
+      if (!abandoned()) row();
+    };
+    uint64_t rays = 0;
+    std::vector<PixelRecord> records;  // summed over the accumulated samples
+    // Publishes a finished pass; false when the generation was abandoned meanwhile.
+    auto publish = [&](int pass, int spp, RenderOutcome& outcome,
+                       std::vector<PixelRecord>&& pixels) {
+      if (abandoned()) return false;
+      lazy_seconds += outcome.counters.lazy_build_seconds;
+      rays += outcome.rays;
+      auto frame = std::make_shared<ProgressiveFrame>();
+      frame->generation = gen;
+      frame->width = w;
+      frame->height = h;
+      frame->pass = pass;
+      frame->spp = spp;
+      frame->image = std::move(outcome.image);
+      frame->pixels = std::move(pixels);
+      frame->rays_per_second = outcome.seconds > 0.0 ? double(outcome.rays) / outcome.seconds : 0.0;
+      frame->rays = rays;
+      frame->structure = accel->stats();
+      frame->structure.build_seconds += lazy_seconds;
+      std::lock_guard lock(mutex);
+      if (generation != gen) return false;
+      this->frame = std::move(frame);
+      last_pass = pass;
+      return true;
+    };
+
+    const Scene& scene = *setup.scene;
+    RenderOutcome outcome =
+        render_pass(scene, *accel, setup.camera, centre, kCoarseBlock, 0, nullptr, run_row);
+    if (!publish(1, 0, outcome, std::move(outcome.pixels))) return;
+    outcome = render_pass(scene, *accel, setup.camera, centre, 1, 0, nullptr, run_row);
+    if (!publish(2, 1, outcome, std::move(outcome.pixels))) return;
+
+    // Accumulation: the pass with spp N adds render_image's samples for spp N that the
+    // image does not have yet (pass 3 takes samples 0 and 1, as render_image jitters every
+    // sample for spp > 1 and none for spp 1), so the image equals render_image's for spp N.
+    const int max_spp = std::clamp(setup.max_spp, 1, kMaxSpp);
+    std::vector<glm::vec3> sums(size_t(w) * size_t(h));
+    for (int spp = 2; spp <= max_spp; ++spp) {
+      const int first = spp == 2 ? 0 : spp - 1;
+      const RenderSettings settings = image_settings(w, h, spp, setup.threads);
+      outcome = render_pass(scene, *accel, setup.camera, settings, 1, first, &sums, run_row);
+      if (abandoned()) return;
+      if (first == 0) {
+        records = std::move(outcome.pixels);
+      } else {
+        for (size_t i = 0; i < records.size(); ++i) {
+          records[i].steps = saturating_add(records[i].steps, outcome.pixels[i].steps);
+          records[i].tests = saturating_add(records[i].tests, outcome.pixels[i].tests);
+          records[i].built = saturating_add(records[i].built, outcome.pixels[i].built);
+        }
+      }
+      if (!publish(spp + 1, spp, outcome, std::vector<PixelRecord>(records))) return;
+    }
+    std::lock_guard lock(mutex);
+    if (generation == gen) busy = false;
+  } catch (...) {
+    const std::string message = caught_error_line();
+    std::lock_guard lock(mutex);
+    if (generation != gen) return;
+    auto frame = std::make_shared<ProgressiveFrame>();
+    frame->generation = gen;
+    frame->width = setup.width;
+    frame->height = setup.height;
+    frame->pass = last_pass + 1;
+    frame->error = message;
+    this->frame = std::move(frame);
+    if (!settled) {
+      settled = true;
+      structure.reset();
+      structure_cv.notify_all();
+    }
+    busy = false;
+  }
+}
+
+ProgressiveRenderer::ProgressiveRenderer() : state_(std::make_unique<State>()) {
+  state_->controller = std::thread([state = state_.get()] { state->controller_loop(); });
+}
+
+ProgressiveRenderer::~ProgressiveRenderer() {
+  {
+    std::lock_guard lock(state_->mutex);
+    state_->stop = true;
+    state_->stopping = true;
+    state_->work_cv.notify_all();
+    state_->structure_cv.notify_all();
+  }
+  state_->controller.join();
+}
+
+void ProgressiveRenderer::restart(const ViewSetup& setup) {
+  State& s = *state_;
+  std::lock_guard lock(s.mutex);
+  s.setup = setup;
+  s.live_generation = ++s.generation;
+  s.busy = true;
+  if (s.ready && s.ready_key && *s.ready_key == StructureKey(setup) && setup.width > 0 &&
+      setup.height > 0) {
+    s.settled = true;
+    s.structure = s.ready;
+  } else {
+    s.settled = false;
+    s.structure.reset();
+  }
+  s.work_cv.notify_all();
+  s.structure_cv.notify_all();
+}
+
+std::optional<ProgressiveFrame> ProgressiveRenderer::take_frame(uint64_t have_generation,
+                                                                int have_pass) {
+  std::shared_ptr<const ProgressiveFrame> frame;
+  {
+    std::lock_guard lock(state_->mutex);
+    frame = state_->frame;
+  }
+  if (!frame || frame->generation < have_generation ||
+      (frame->generation == have_generation && frame->pass <= have_pass))
+    return std::nullopt;
+  return *frame;  // copied outside the lock: a published frame never changes
+}
+
+std::optional<Walk> ProgressiveRenderer::record_walk(int x, int y) {
+  State& s = *state_;
+  std::shared_ptr<Accelerator> accel;
+  Camera camera;
+  int w = 0, h = 0;
+  {
+    std::unique_lock lock(s.mutex);
+    s.structure_cv.wait(lock, [&] { return s.stop || s.settled; });
+    if (s.stop || !s.structure || !s.setup.scene) return std::nullopt;
+    accel = s.structure;
+    camera = s.setup.camera;
+    w = s.setup.width;
+    h = s.setup.height;
+  }
+  if (x < 0 || y < 0 || x >= w || y >= h) return std::nullopt;
+  // With the workers paused between rows: a voxel another thread is cutting would be walked
+  // as a leaf (the lazy build never waits), so the walk would depend on timing. Paused, every
+  // voxel is either finished or cut by this walk itself, and the walk is the one the
+  // structure gives (that of `trace --walk` after the same sampling pass).
+  State::Visiting hold(s);
+  const std::unique_ptr<ThreadContext> context = accel->make_context();
+  return accel->record_walk(camera.primary_ray(x, y, w, h), *context);
+}
+
+void ProgressiveRenderer::with_structure_paused(
+    const std::function<void(const Accelerator&)>& visit) {
+  State& s = *state_;
+  std::shared_ptr<Accelerator> accel;
+  {
+    std::lock_guard lock(s.mutex);
+    if (s.settled) accel = s.structure;
+  }
+  if (!accel) return;
+  State::Visiting hold(s);
+  visit(*accel);
+}
+
+bool ProgressiveRenderer::busy() const { return state_->busy.load(); }
+
+bool ProgressiveRenderer::structure_ready() const {
+  std::lock_guard lock(state_->mutex);
+  return state_->settled;
+}
+
+struct SceneLoader::State {
+  // Guarded by `mutex`. Requests are numbered; `taken` is the newest one handed out.
+  mutable std::mutex mutex;
+  std::condition_variable cv;  // the worker: a new request, or stop
+  bool stop = false;
+  uint64_t requested = 0, taken = 0;
+  std::string spec;              // of request `requested`
+  std::optional<Result> result;  // of request `requested`, when done
+  std::thread worker;
+
+  void worker_loop();
+};
+
+void SceneLoader::State::worker_loop() {
+  uint64_t done = 0;
+  for (;;) {
+    uint64_t request = 0;
+    Result loaded;
+    {
+      std::unique_lock lock(mutex);
+      cv.wait(lock, [&] { return stop || requested != done; });
+      if (stop) return;
+      request = done = requested;
+      loaded.spec = spec;
+    }
+    try {
+      loaded.scene = std::make_shared<const Scene>(load_scene(loaded.spec));
+    } catch (const InputError&) {
+      loaded.error = caught_error_line();  // "FILE: problem" already
+    } catch (const std::bad_alloc&) {
+      loaded.error = loaded.spec + ": out of memory";
+    } catch (...) {
+      loaded.error = loaded.spec + ": " + caught_error_line();
+    }
+    std::lock_guard lock(mutex);
+    if (request == requested) result = std::move(loaded);  // else superseded: dropped
+  }
+}
+
+SceneLoader::SceneLoader() : state_(std::make_unique<State>()) {
+  state_->worker = std::thread([state = state_.get()] { state->worker_loop(); });
+}
+
+SceneLoader::~SceneLoader() {
+  {
+    std::lock_guard lock(state_->mutex);
+    state_->stop = true;
+    state_->cv.notify_all();
+  }
+  state_->worker.join();
+}
+
+void SceneLoader::load(const std::string& spec) {
+  std::lock_guard lock(state_->mutex);
+  state_->spec = spec;
+  ++state_->requested;
+  state_->result.reset();
+  state_->cv.notify_all();
+}
+
+std::optional<SceneLoader::Result> SceneLoader::take() {
+  std::lock_guard lock(state_->mutex);
+  if (!state_->result) return std::nullopt;
+  std::optional<Result> result = std::move(state_->result);
+  state_->result.reset();
+  state_->taken = state_->requested;
+  return result;
+}
+
+std::optional<std::string> SceneLoader::pending() const {
+  std::lock_guard lock(state_->mutex);
+  if (state_->taken == state_->requested) return std::nullopt;
+  return state_->spec;
+}
+
+}  // namespace gs
