@@ -6,6 +6,7 @@
 #include "app/plot.h"
 #include "bench/report.h"
 #include "core/base/error.h"
+#include "core/base/files.h"
 #include "core/geometry/ray_io.h"
 #include "core/trace/trace_job.h"
 

@@ -15,10 +15,11 @@
 #include "app/view.h"
 #include "bench/calibrate.h"
 #include "core/accel/grid1d/cost_constants.h"
-#include "core/scene/camera.h"
 #include "core/base/error.h"
+#include "core/base/files.h"
 #include "core/geometry/ray_io.h"
 #include "core/render/render.h"
+#include "core/scene/camera.h"
 #include "core/scene/scene.h"
 #include "core/trace/trace_job.h"
 

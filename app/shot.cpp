@@ -11,8 +11,8 @@
 #include "app/gl/frame.h"
 #include "app/gl/headless.h"
 #include "app/gl/imgui_renderer.h"
-#include "core/base/error.h"
 #include "core/accel/grid1d/grid1d.h"
+#include "core/base/error.h"
 #include "core/render/overlay.h"
 #include "core/trace/trace_job.h"
 
@@ -28,7 +28,7 @@ std::array<int, 2> walk_pixel(const ShotJob& job) {
 // Usage errors before any file is read (DESIGN.md §3: usage first).
 void check_usage(const ShotJob& job, const Accelerator& accel) {
   check_render_settings(job.settings);
-  if (job.overlays.needs_grid() && !dynamic_cast<const Grid1D*>(&accel))
+  if (job.overlays.needs_grid() && !accel.grid1d())
     throw UsageError("shot: --overlay cells, states and walk need --accel grid1d, not '" +
                      job.accel + "'");
   const auto [x, y] = walk_pixel(job);
@@ -48,7 +48,7 @@ struct Overlays {
 Overlays make_overlays(const ShotJob& job, const Accelerator& accel, const Camera& camera,
                        const RenderOutcome& outcome) {
   Overlays overlays;
-  const Grid1D* grid = dynamic_cast<const Grid1D*>(&accel);
+  const Grid1D* grid = accel.grid1d();
   if (job.overlays
           .walk) {  // first: re-tracing the ray may build voxels the cells overlay then shows
     const auto [x, y] = walk_pixel(job);

@@ -1,5 +1,8 @@
 #include "app/view.h"
 
+#include "core/base/files.h"
+#include "core/base/timing.h"
+
 // glad first: it claims the GL header guard before GLFW or ImGui could pull in GL headers.
 #include <glad/gl.h>
 #define GLFW_INCLUDE_NONE
@@ -21,13 +24,13 @@
 #include "app/gl/frame.h"
 #include "app/gl/imgui_renderer.h"
 #include "app/gl/window.h"
-#include "core/render/camera_control.h"
 #include "core/accel/grid1d/cost_model.h"
-#include "core/base/error.h"
 #include "core/accel/grid1d/grid1d.h"
+#include "core/base/error.h"
+#include "core/geometry/ray_io.h"
+#include "core/render/camera_control.h"
 #include "core/render/overlay.h"
 #include "core/render/progressive.h"
-#include "core/geometry/ray_io.h"
 #include "core/render/render.h"
 #include "core/trace/trace_job.h"
 
@@ -54,8 +57,6 @@ constexpr double kIdleWait = 0.05;        // seconds a minimised window sleeps p
 // A scripted click is followed by this many frames before exiting, so that tables that
 // size themselves from their content have measured it when the screenshot is taken.
 constexpr int kFramesAfterClick = 2;
-
-using Clock = std::chrono::steady_clock;
 
 const char* const kHeatNames[] = {"none", "steps", "tests", "built"};
 const ImVec4 kWarning(1.0f, 0.4f, 0.4f, 1.0f);  // errors and figures that need attention
@@ -541,7 +542,7 @@ class Viewer {
   // Overlays read the structure while workers are paused, so they are refreshed a few
   // times a second while it grows, and at once when toggled or picked.
   void refresh_overlays(bool force) {
-    const double since = std::chrono::duration<double>(Clock::now() - overlay_time_).count();
+    const double since = seconds_since(overlay_time_);
     const bool grown = frame_.structure.nodes.value_or(0) != overlay_nodes_;
     if (!force && !overlays_dirty_ && !cost_dirty_ && !(grown && since >= kOverlayInterval)) return;
     overlay_time_ = Clock::now();
@@ -554,7 +555,7 @@ class Viewer {
     structure_lines_.clear();
     states_.clear();
     cost_.reset();
-    const Grid1D* grid = dynamic_cast<const Grid1D*>(&accel);
+    const Grid1D* grid = accel.grid1d();
     nodes_built_ = grid ? grid->voxel_count() : 0;
     if (!grid) return;
     if (show_cells_)

@@ -11,11 +11,12 @@
 #include <optional>
 #include <thread>
 
-#include "bench/scenes.h"
 #include "bench/calibrate.h"
-#include "core/base/error.h"
-#include "core/render/render.h"
+#include "bench/scenes.h"
 #include "core/accel/zero_overhead.h"
+#include "core/base/error.h"
+#include "core/base/timing.h"
+#include "core/render/render.h"
 
 namespace gs {
 
@@ -243,10 +244,9 @@ double estimate_render_seconds(const BenchScene& bench, const Accelerator& accel
                                double budget) {
   constexpr int kProbeStride = 32;
   std::atomic<int> turn{0}, rendered{0};
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   const RowRunner probe = [&](const std::function<void()>& render_row) {
-    const bool in_time =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < budget;
+    const bool in_time = seconds_since(start) < budget;
     if (turn.fetch_add(1) % kProbeStride == kProbeStride / 2 && in_time) {
       render_row();
       rendered.fetch_add(1);
@@ -379,10 +379,8 @@ class Convergence {
   // [[seconds, rmse], ...] after each accumulation pass; stops early past the time limit.
   json points(const std::string& accel_name) const {
     json points = json::array();
-    const auto start = std::chrono::steady_clock::now();
-    auto elapsed = [&] {
-      return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    };
+    const auto start = Clock::now();
+    auto elapsed = [&] { return seconds_since(start); };
     auto accel = make_accelerator(accel_name, AccelParams{});
     accel->build(*bench_.scene);
     sample_image(*accel, camera_, settings_);
@@ -457,9 +455,7 @@ class BenchRun {
     records_.push_back(std::move(record));
   }
 
-  double elapsed() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  }
+  double elapsed() const { return seconds_since(start_); }
 
   // The paper's section 6.2 constants measured on this machine (core/calibrate.h).
   void calibrate_constants() {
@@ -597,7 +593,7 @@ class BenchRun {
   Reference primary_reference_;
   double zero_seconds_ = 0.0;
   json records_ = json::array();
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  Clock::time_point start_ = Clock::now();
 };
 
 }  // namespace

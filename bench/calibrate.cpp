@@ -10,24 +10,23 @@
 #include <limits>
 #include <random>
 
-#include "core/scene/camera.h"
-#include "core/base/error.h"
 #include "core/accel/grid1d/grid1d.h"
+#include "core/base/error.h"
+#include "core/base/timing.h"
 #include "core/render/render.h"
+#include "core/scene/camera.h"
 #include "core/scene/scene.h"
-#include "core/trace/trace_job.h"
+#include "core/trace/run.h"
 
 namespace gs {
 namespace {
 
 using json = nlohmann::json;
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // The five §6.2 constants, by name, in the calibration and in the structure parameters.
 // The work each constant is the cost of, in kCostConstants' order (kRayTerm: Subcost,
 // timed from the build).
-constexpr FitTerm kConstantTerms[] = {kTestTerm, kRejectionTerm, kStepTerm, kDescentTerm,
-                                      kRayTerm};
+constexpr FitTerm kConstantTerms[] = {kTestTerm, kRejectionTerm, kStepTerm, kDescentTerm, kRayTerm};
 static_assert(std::size(kConstantTerms) == std::size(kCostConstants));
 constexpr const char* kTermNames[kFitTerms] = {"ray", "test", "rejection", "step", "descent"};
 
@@ -311,11 +310,11 @@ double warm_seconds_per_ray(const Accelerator& accel, const std::vector<Ray>& ra
   std::vector<Hit> hits(rays.size());
   const auto pass = [&] {
     return cpu_seconds_of([&] {
-      counters = parallel_chunks(accel, rays.size(), rays.size(), 1,
-                                 [&](ThreadContext& context, size_t begin, size_t end) {
-                                   for (size_t i = begin; i < end; ++i)
-                                     hits[i] = accel.intersect(rays[i], context);
-                                 });
+      counters = trace_chunks(accel, rays.size(), rays.size(), 1,
+                              [&](ThreadContext& context, size_t begin, size_t end) {
+                                for (size_t i = begin; i < end; ++i)
+                                  hits[i] = accel.intersect(rays[i], context);
+                              });
     });
   };
   pass();
@@ -506,8 +505,7 @@ Calibration calibration_from_measurements(std::span<const WorkSample> rows,
         {"nanoseconds", seconds * 1e9},
         {"standard_error_nanoseconds",
          from_build ? json(nullptr) : json(fit.standard_error[term] * 1e9)},
-        {"work",
-         from_build ? "triangle sorted into cells (eager build)" : kTermNames[term]}};
+        {"work", from_build ? "triangle sorted into cells (eager build)" : kTermNames[term]}};
   }
   calibration.nanoseconds_per_unit = unit * 1e9;
 
@@ -530,7 +528,7 @@ Calibration calibration_from_measurements(std::span<const WorkSample> rows,
 Calibration calibrate(const CalibrateOptions& options) {
   if (!(options.budget_seconds > 0.0) || !std::isfinite(options.budget_seconds))
     throw UsageError("calibrate: the time budget must be a positive number of seconds");
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   std::mt19937_64 rng(options.seed);
   const std::vector<Scenario> scenarios = make_scenarios(rng);
   const double share =
@@ -546,8 +544,7 @@ Calibration calibrate(const CalibrateOptions& options) {
   calibration.detail["validation"] = validate(fit_costs(rows), share);
   calibration.detail["budget_seconds"] = options.budget_seconds;
   calibration.detail["seed"] = options.seed;
-  calibration.detail["seconds"] =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  calibration.detail["seconds"] = seconds_since(start);
   return calibration;
 }
 

@@ -9,6 +9,7 @@
 
 #include "bench/calibrate.h"
 #include "core/base/error.h"
+#include "core/base/files.h"
 #include "core/trace/trace_job.h"
 #include "tests/test_util.h"
 

@@ -22,9 +22,9 @@
 
 namespace {
 
+using gs::test::kInf;
 using gs::test::temp_path;
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 using gs::test::quoted;
@@ -335,9 +335,9 @@ TEST(Cli, CostsFileSetsTheFiveConstantsAndLaterFlagsWin) {
     std::ofstream(costs) << R"({"intcost": 2, "repcost": 0.5, "travcost": 3, "vertcost": 4,)"
                          << R"( "subcost": 5, "detail": {}})";
   }
-  const Outcome result = run("render builtin:pyramid --size 8x8 --out " +
-                             quoted(temp_path("costs.png")) + " --costs " + quoted(costs) +
-                             " --travcost 7 --stats " + quoted(stats));
+  const Outcome result =
+      run("render builtin:pyramid --size 8x8 --out " + quoted(temp_path("costs.png")) +
+          " --costs " + quoted(costs) + " --travcost 7 --stats " + quoted(stats));
   ASSERT_EQ(result.status, 0) << result.err;
   const nlohmann::json parameters = nlohmann::json::parse(slurp(stats))["parameters"];
   EXPECT_EQ(parameters["intcost"], 2.0);

@@ -12,11 +12,11 @@
 #include <limits>
 
 #include "core/accel/bvh.h"
-#include "core/base/error.h"
 #include "core/accel/grid1d/grid1d.h"
 #include "core/accel/grid3d.h"
 #include "core/accel/octree.h"
 #include "core/accel/uniform_grid.h"
+#include "core/base/error.h"
 #include "tests/test_util.h"
 
 namespace gs {
@@ -320,29 +320,8 @@ Scene degenerate_scene(const std::string& name) {
   return far_away_scene();
 }
 
-// The deepest level the structure built (the root is level 0, a grid3d root grid level 1).
-int depth_built(const Accelerator& accel) {
-  int deepest = 0;
-  if (const auto* octree = dynamic_cast<const Octree*>(&accel)) return octree->depth_reached();
-  if (const auto* grid = dynamic_cast<const Grid1D*>(&accel)) {
-    for (uint32_t id = 0; id < grid->voxel_count(); ++id)
-      deepest = std::max(deepest, int(grid->voxel_depth(id)));
-  } else if (const auto* nested = dynamic_cast<const NestedGrid*>(&accel)) {
-    for (uint32_t id = 0; id < nested->grid_count(); ++id)
-      deepest = std::max(deepest, int(nested->grid(id).depth));
-  } else if (const auto* bvh = dynamic_cast<const Bvh*>(&accel)) {
-    std::vector<std::pair<uint32_t, int>> stack{{0, 0}};
-    while (!stack.empty() && bvh->node_count() > 0) {
-      const auto [id, depth] = stack.back();
-      stack.pop_back();
-      deepest = std::max(deepest, depth);
-      if (bvh->node(id).count == 0)
-        stack.insert(stack.end(),
-                     {{bvh->node(id).first, depth + 1}, {bvh->node(id).first + 1, depth + 1}});
-    }
-  }
-  return deepest;
-}
+// The deepest level the structure built (its top node, voxel or grid is level 0).
+int depth_built(const Accelerator& accel) { return int(accel.stats().depth.value_or(0)); }
 
 // Each structure's documented depth cap at its default parameters.
 int default_depth_cap(const std::string& name) {

@@ -17,8 +17,6 @@
 namespace gs {
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
-
 Scene sphere_and_soup() {
   return test::merge(test::make_sphere({0.0f, 0.0f, 0.0f}, 1.0f, 12, 24),
                      test::make_soup(5, 300, glm::vec3(-2.0f), glm::vec3(2.0f), 0.1f));

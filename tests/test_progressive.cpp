@@ -7,8 +7,8 @@
 #include <functional>
 #include <thread>
 
-#include "core/render/camera_control.h"
 #include "core/accel/grid1d/grid1d.h"
+#include "core/render/camera_control.h"
 #include "core/render/overlay.h"
 #include "core/render/progressive.h"
 #include "core/render/render.h"
@@ -312,7 +312,7 @@ TEST(Progressive, StructureVisitsPauseTheWorkers) {
   const ProgressiveFrame before = frame_at(renderer, 1, 2);
   auto visit = [&](const Accelerator& accel) {
     ++visits;
-    const auto* grid = dynamic_cast<const Grid1D*>(&accel);
+    const Grid1D* grid = accel.grid1d();
     ASSERT_NE(grid, nullptr);
     // No worker builds while we look: the walls counted voxel by voxel are the lines drawn.
     size_t expected = 12, splits = 0;

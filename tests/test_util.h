@@ -2,6 +2,7 @@
 // ray sets made in code, and tracing a ray set through a structure.
 #pragma once
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -11,6 +12,9 @@
 #include "core/scene/scene.h"
 
 namespace gs::test {
+
+// A ray file's or hit file's infinity (float records).
+inline constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // Path of a file under ../shared, or "" when ../shared is absent (callers GTEST_SKIP).
 std::string shared_file(const std::string& relative);

@@ -8,13 +8,13 @@
 
 #include "core/accel/brute.h"
 #include "core/accel/bvh.h"
-#include "core/base/error.h"
 #include "core/accel/grid1d/grid1d.h"
 #include "core/accel/grid3d.h"
 #include "core/accel/octree.h"
-#include "core/trace/trace_job.h"
 #include "core/accel/uniform_grid.h"
 #include "core/accel/zero_overhead.h"
+#include "core/base/error.h"
+#include "core/base/parallel.h"
 #if GRIDSCOPE_HAVE_EMBREE
 #include "core/accel/embree_accel.h"
 #endif

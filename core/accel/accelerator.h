@@ -10,11 +10,13 @@
 #include <string>
 #include <vector>
 
+#include "core/accel/walk.h"
 #include "core/geometry/ray.h"
 #include "core/scene/scene.h"
-#include "core/accel/walk.h"
 
 namespace gs {
+
+class Grid1D;
 
 enum class AxisRule { alternate, cost };
 
@@ -90,6 +92,8 @@ struct StructureStats {
   std::optional<uint64_t> voxels_subdivided;
   std::optional<uint64_t> leaves;
   std::optional<uint64_t> traversal_states;
+  // The deepest level built: the root (or a grid3d's root grid) is 0, its children 1.
+  std::optional<uint64_t> depth;
   uint64_t memory_bytes = 0;
   double build_seconds =
       0.0;  // up-front build plus the sampling pass (lazy work is added by callers)
@@ -126,11 +130,19 @@ class Accelerator {
     return any_hit(ray, context).found();
   }
   virtual StructureStats stats() const = 0;
+  // Called once a run knows how many ray keys (ThreadContext::ray_index) it will trace:
+  // `keys` of them, one per `what` ("ray", "ray key of this render"). A structure that
+  // answers by key (the zero-overhead oracle) throws InputError unless it holds one answer
+  // per key; the others need nothing.
+  virtual void check_ray_keys(size_t /*keys*/, const std::string& /*what*/) const {}
   // The nearest-hit search for one ray, cell by cell, by the same code that traces; for a
   // structure without cells to walk (brute), nothing.
   virtual std::optional<Walk> record_walk(const Ray& /*ray*/, ThreadContext& /*context*/) const {
     return std::nullopt;
   }
+  // The explorer's overlays and inspector (cells, traversal states, cost reports) read the
+  // 1D grid's own records; every other structure has none to show.
+  virtual const Grid1D* grid1d() const { return nullptr; }
 };
 
 std::vector<std::string> accelerator_names();

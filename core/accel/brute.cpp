@@ -2,17 +2,19 @@
 
 #include <chrono>
 
+#include "core/base/timing.h"
+
 namespace gs {
 
 void BruteForce::build(const Scene& scene) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   triangles_ = gather_triangles(scene);
   usable_.clear();
   for (uint32_t i = 0; i < triangles_.size(); ++i)
     if (!scene.is_degenerate(i)) usable_.push_back(i);
   bounds_ = scene.bounds();
   clip_box_ = ClipBox(bounds_);
-  build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  build_seconds_ = seconds_since(start);
 }
 
 std::unique_ptr<ThreadContext> BruteForce::make_context() const {
@@ -58,6 +60,7 @@ StructureStats BruteForce::stats() const {
   s.leaves = 1;
   s.voxels_subdivided = 0;
   s.traversal_states = std::nullopt;
+  s.depth = 0;
   s.memory_bytes = triangles_.size() * sizeof(TriangleVerts) + usable_.size() * sizeof(uint32_t);
   s.build_seconds = build_seconds_;
   return s;

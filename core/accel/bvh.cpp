@@ -6,10 +6,11 @@
 #include <cmath>
 #include <limits>
 
+#include "core/base/timing.h"
+
 namespace gs {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int kBins = 16;
 constexpr double kTraversalCost = 1.0, kIntersectionCost = 1.0;
 
@@ -130,6 +131,7 @@ struct Bvh::Builder {
   }
 
   void build(uint32_t node, uint32_t begin, uint32_t end, int depth) {
+    bvh.deepest_ = std::max(bvh.deepest_, uint64_t(depth));
     DBox box;
     for (uint32_t i = begin; i < end; ++i) box.extend(boxes[ids[i]]);
     for (int a = 0; a < 3; ++a)
@@ -163,11 +165,11 @@ Bvh::Bvh(const AccelParams& params)
       memory_budget_(params.memory_budget) {}
 
 void Bvh::build(const Scene& scene) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   const std::vector<TriangleVerts> verts = gather_triangles(scene);
   bounds_ = scene.bounds();
   root_ = ClipBox(bounds_);
-  nodes_.clear(), triangles_.clear(), leaves_ = over_budget_ = 0;
+  nodes_.clear(), triangles_.clear(), leaves_ = over_budget_ = deepest_ = 0;
   Builder builder{*this, std::vector<DBox>(verts.size()), {}, {}, verts};
   builder.centroids.resize(verts.size());
   for (uint32_t id = 0; id < verts.size(); ++id) {
@@ -189,7 +191,7 @@ void Bvh::build(const Scene& scene) {
     builder.build(0, 0, uint32_t(builder.ids.size()), 0);
   }
   nodes_.shrink_to_fit();
-  build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  build_seconds_ = seconds_since(start);
 }
 
 std::unique_ptr<ThreadContext> Bvh::make_context() const {
@@ -287,6 +289,7 @@ StructureStats Bvh::stats() const {
   s.leaves = leaves_;
   s.voxels_subdivided = nodes_.size() - leaves_;
   s.traversal_states = std::nullopt;
+  s.depth = deepest_;
   s.memory_bytes = nodes_.size() * sizeof(Node) + triangles_.size() * sizeof(PackedTriangle);
   s.build_seconds = build_seconds_;
   s.voxels_over_budget = over_budget_;

@@ -69,7 +69,7 @@ class Bvh final : public Accelerator {
   std::vector<PackedTriangle> triangles_;
   Box bounds_;
   ClipBox root_;
-  uint64_t leaves_ = 0, over_budget_ = 0;
+  uint64_t leaves_ = 0, over_budget_ = 0, deepest_ = 0;
   double build_seconds_ = 0.0;
 };
 

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/base/error.h"
+#include "core/base/timing.h"
 
 namespace gs {
 
@@ -65,7 +66,7 @@ void EmbreeAccel::release() {
 void EmbreeAccel::build(const Scene& scene) {
   release();
   memory_bytes_ = 0;
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   const std::string config =
       build_threads_ > 0 ? "threads=" + std::to_string(build_threads_) : std::string();
   device_ = rtcNewDevice(config.c_str());
@@ -105,7 +106,7 @@ void EmbreeAccel::build(const Scene& scene) {
   rtcCommitScene(scene_);
   if (rtcGetDeviceError(device_) != RTC_ERROR_NONE) fail_embree(device_, "building the scene");
   bounds_ = scene.bounds();
-  build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  build_seconds_ = seconds_since(start);
 }
 
 std::unique_ptr<ThreadContext> EmbreeAccel::make_context() const {

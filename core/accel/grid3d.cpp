@@ -7,11 +7,11 @@
 #include <limits>
 #include <stdexcept>
 
+#include "core/base/timing.h"
+
 namespace gs {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-constexpr double kInf = std::numeric_limits<double>::infinity();
 // Most cells per side of one grid.
 constexpr int kMaxResolution = 1024;
 // A grid whose cells would hold more than this many references per triangle (thousands
@@ -19,10 +19,6 @@ constexpr int kMaxResolution = 1024;
 // half the resolution, and a sub-grid that still does is not built: it would cost memory
 // and separate nothing. Bounds a grid's references by 8x its triangles.
 constexpr double kMaxRefsPerTriangle = 8.0;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // The cell of a grid axis holding coordinate x, clamped to the grid. Clamped first, then
 // truncated: truncation is floor for what is left.
@@ -362,6 +358,7 @@ bool NestedGrid::commit(const Plan& plan, uint32_t depth, uint32_t& grid_id) con
   }
   grid.first_cell = uint32_t(first_cell);
   grid.depth = depth;
+  raise_to(deepest_, depth - 1);
   const bool may_split = int(depth) < max_depth_;
   for (size_t c = 0; c < cells; ++c) {
     Cell& cell = cells_[first_cell + c];
@@ -412,6 +409,7 @@ StructureStats NestedGrid::stats() const {
   s.voxels_subdivided = subdivided_.load();
   s.leaves = cells_.size() - subdivided_.load();
   s.traversal_states = std::nullopt;
+  s.depth = deepest_.load();
   s.memory_bytes = bytes_used_.load() + triangles_.size() * sizeof(TriangleVerts) +
                    tri_box_.size() * sizeof(double);
   s.build_seconds = build_seconds_;

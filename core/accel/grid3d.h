@@ -20,8 +20,9 @@
 #include <vector>
 
 #include "core/accel/accelerator.h"
-#include "core/geometry/kernel.h"
+#include "core/base/atomic.h"
 #include "core/base/stable_array.h"
+#include "core/geometry/kernel.h"
 
 namespace gs {
 
@@ -112,6 +113,7 @@ class NestedGrid final : public Accelerator {
   mutable StableArray<PackedTriangle> refs_;
   mutable std::atomic<uint64_t> subdivided_{0};
   mutable std::atomic<uint64_t> over_budget_{0};
+  mutable std::atomic<uint64_t> deepest_{0};  // the deepest sub-grid's depth - 1
   mutable std::atomic<uint64_t> bytes_used_{0};
 };
 

@@ -4,10 +4,11 @@
 #include <chrono>
 #include <limits>
 
+#include "core/base/timing.h"
+
 namespace gs {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 // A cut whose children hold this many copies of each triangle on average, one of them all
 // of the triangles, separates nothing (see Octree::split).
 constexpr uint64_t kInseparableCopies = 2;
@@ -20,7 +21,7 @@ Octree::Octree(const AccelParams& params)
       memory_budget_(params.memory_budget) {}
 
 void Octree::build(const Scene& scene) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   triangles_ = gather_triangles(scene);
   bounds_ = scene.bounds();
   box_ = ClipBox(bounds_);
@@ -44,7 +45,7 @@ void Octree::build(const Scene& scene) {
   const uint32_t origin[3] = {0, 0, 0};
   build_node(0, 0, origin, usable);
   tri_box_ = {};
-  build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  build_seconds_ = seconds_since(start);
 }
 
 // The root's cells span the scene box, except along an axis thinner than the finest cell
@@ -232,6 +233,7 @@ StructureStats Octree::stats() const {
   s.leaves = leaves_;
   s.voxels_subdivided = internal_;
   s.traversal_states = std::nullopt;
+  s.depth = uint64_t(depth_reached_);
   s.memory_bytes = triangles_.size() * sizeof(TriangleVerts) + nodes_.size() * sizeof(Node) +
                    refs_.size() * sizeof(uint32_t);
   s.build_seconds = build_seconds_;

@@ -5,17 +5,18 @@
 #include <cmath>
 #include <limits>
 
+#include "core/base/timing.h"
+
 namespace gs {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 // Most cells the grid makes whatever --density asks (4 bytes of offsets each).
 constexpr uint64_t kMaxCells = uint64_t{1} << 26;
 
 }  // namespace
 
 void UniformGrid::build(const Scene& scene) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   triangles_ = gather_triangles(scene);
   bounds_ = scene.bounds();
   box_ = ClipBox(bounds_);
@@ -34,7 +35,7 @@ void UniformGrid::build(const Scene& scene) {
   cells_over_budget_ = wanted - cell_count();
   sort_into_cells(usable, true);
   tri_box_ = {};
-  build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  build_seconds_ = seconds_since(start);
 }
 
 // The paper's setting (§7): cbrt(N) cells per side, i.e. about N cells, here as cubic as
@@ -245,6 +246,7 @@ StructureStats UniformGrid::stats() const {
   s.leaves = cell_count();
   s.voxels_subdivided = 0;
   s.traversal_states = std::nullopt;
+  s.depth = 0;  // one level of cells
   s.memory_bytes = triangles_.size() * sizeof(TriangleVerts) +
                    (offsets_.size() + tris_.size()) * sizeof(uint32_t) +
                    (walls_[0].size() + walls_[1].size() + walls_[2].size()) * sizeof(double);

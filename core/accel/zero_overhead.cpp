@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "core/base/error.h"
+#include "core/base/timing.h"
 #include "core/geometry/ray_io.h"
 
 namespace gs {
@@ -17,7 +18,7 @@ ZeroOverhead::ZeroOverhead(std::vector<Hit> oracle)
     : oracle_path_("(memory)"), oracle_in_memory_(true), oracle_(std::move(oracle)) {}
 
 void ZeroOverhead::build(const Scene& scene) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   if (!oracle_in_memory_) oracle_ = read_hits(oracle_path_);
   for (size_t i = 0; i < oracle_.size(); ++i) {
     const int32_t id = oracle_[i].id;
@@ -29,13 +30,13 @@ void ZeroOverhead::build(const Scene& scene) {
   triangles_ = gather_triangles(scene);
   bounds_ = scene.bounds();
   clip_box_ = ClipBox(bounds_);
-  build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  build_seconds_ = seconds_since(start);
 }
 
-void ZeroOverhead::check_ray_count(size_t rays, const std::string& what) const {
-  if (oracle_.size() != rays)
+void ZeroOverhead::check_ray_keys(size_t keys, const std::string& what) const {
+  if (oracle_.size() != keys)
     fail_input(oracle_path_, "holds " + std::to_string(oracle_.size()) + " hits, not one per " +
-                                 what + " (" + std::to_string(rays) + ")");
+                                 what + " (" + std::to_string(keys) + ")");
 }
 
 std::unique_ptr<ThreadContext> ZeroOverhead::make_context() const {

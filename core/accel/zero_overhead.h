@@ -38,9 +38,9 @@ class ZeroOverhead final : public Accelerator {
 
   const std::string& oracle_path() const { return oracle_path_; }
   size_t oracle_size() const { return oracle_.size(); }
-  // Throws InputError naming the oracle unless it holds exactly `rays` hits, one per `what`
+  // Throws InputError naming the oracle unless it holds exactly `keys` hits, one per `what`
   // (a ray, or a render's ray key). Call after build().
-  void check_ray_count(size_t rays, const std::string& what = "ray") const;
+  void check_ray_keys(size_t keys, const std::string& what) const override;
 
  private:
   std::string oracle_path_;

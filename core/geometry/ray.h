@@ -6,6 +6,9 @@
 
 namespace gs {
 
+// Distances along rays: "never" (a zero direction component's next wall, no hit yet).
+inline constexpr double kInf = std::numeric_limits<double>::infinity();
+
 // 32 bytes: ox oy oz tmin dx dy dz tmax, little-endian float32 in files.
 // t is measured in units of dir (dir need not be normalised).
 struct Ray {

@@ -19,9 +19,4 @@ void write_rays(const std::string& path, std::span<const Ray> rays);
 std::vector<Hit> read_hits(const std::string& path);
 void write_hits(const std::string& path, std::span<const Hit> hits);
 
-// Whole-file helpers the formats above are built on, shared by the other writers.
-// Throw InputError ("PATH: problem") when the file cannot be read or written completely.
-std::vector<char> read_file(const std::string& path);
-void write_file(const std::string& path, std::span<const char> bytes);
-
 }  // namespace gs

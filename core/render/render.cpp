@@ -10,9 +10,11 @@
 #include <stdexcept>
 
 #include "core/base/error.h"
+#include "core/base/files.h"
 #include "core/base/hash.h"
+#include "core/base/timing.h"
 #include "core/geometry/ray_io.h"
-#include "core/accel/zero_overhead.h"
+#include "core/trace/sampling.h"
 
 namespace gs {
 
@@ -237,7 +239,7 @@ RenderOutcome render_rows(const Scene& scene, const Accelerator& accel, const Ca
   const Lighting lighting = make_lighting(scene, camera, settings.light);
   const size_t tile_rows = size_t((settings.height + stride - 1) / stride);
   std::atomic<uint64_t> rays{0};
-  const ChunkBody rows = [&](ThreadContext& context, size_t begin, size_t end) {
+  const TraceChunk rows = [&](ThreadContext& context, size_t begin, size_t end) {
     uint64_t row_rays = 0;
     for (size_t ty = begin; ty < end; ++ty) {
       auto row = [&] {
@@ -252,7 +254,7 @@ RenderOutcome render_rows(const Scene& scene, const Accelerator& accel, const Ca
     rays.fetch_add(row_rays, std::memory_order_relaxed);
   };
   outcome.seconds = seconds_of(
-      [&] { outcome.counters = parallel_chunks(accel, tile_rows, 1, settings.threads, rows); });
+      [&] { outcome.counters = trace_chunks(accel, tile_rows, 1, settings.threads, rows); });
   outcome.rays = rays.load();
   return outcome;
 }
@@ -290,16 +292,6 @@ uint64_t render_ray_keys(const RenderSettings& settings) {
          uint64_t(settings.bounces + 1) * 2;
 }
 
-std::vector<size_t> image_sample_pixels(int width, int height) {
-  constexpr int kBlock = 8;
-  std::vector<size_t> pixels;
-  for (int by = 0; by < height; by += kBlock)
-    for (int bx = 0; bx < width; bx += kBlock)
-      pixels.push_back(size_t(std::min(by + kBlock / 2, height - 1)) * size_t(width) +
-                       size_t(std::min(bx + kBlock / 2, width - 1)));
-  return pixels;
-}
-
 void sample_image(Accelerator& accel, const Camera& camera, const RenderSettings& settings) {
   const int w = settings.width, h = settings.height;
   std::vector<Ray> rays;
@@ -310,8 +302,7 @@ void sample_image(Accelerator& accel, const Camera& camera, const RenderSettings
 
 RenderOutcome render_image(const Scene& scene, const Accelerator& accel, const Camera& camera,
                            const RenderSettings& settings, std::vector<Hit>* answers) {
-  if (const auto* zero = dynamic_cast<const ZeroOverhead*>(&accel))
-    zero->check_ray_count(render_ray_keys(settings), "ray key of this render");
+  accel.check_ray_keys(render_ray_keys(settings), "ray key of this render");
   if (answers) answers->assign(render_ray_keys(settings), Hit{});
   return render_rows(scene, accel, camera, settings, 1, 0, nullptr,
                      answers ? answers->data() : nullptr, {});

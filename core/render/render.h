@@ -13,9 +13,10 @@
 #include <vector>
 
 #include "core/accel/accelerator.h"
+#include "core/base/parallel.h"
 #include "core/scene/camera.h"
 #include "core/scene/scene.h"
-#include "core/trace/trace_job.h"
+#include "core/trace/run.h"
 
 namespace gs {
 
@@ -68,10 +69,6 @@ struct RenderOutcome {
   double seconds = 0.0;
   TraceCounters counters;
 };
-
-// The pixels of an image's sampling pass: the centre pixel of every 8x8 block, as indices
-// y * width + x in row order (also what `trace --sample-image` picks from a ray file).
-std::vector<size_t> image_sample_pixels(int width, int height);
 
 // The paper's sampling pass for an image (DESIGN.md §1 "Cost function"): the primary ray of
 // one pixel in every 8x8 block, standing for all width * height * spp primary rays.

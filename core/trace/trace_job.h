@@ -1,22 +1,15 @@
-// The `trace` job as a library function (the CLI only parses), and the pieces it shares
-// with the renderer: the threaded chunk loop, the stats record, timing.
+// The `trace` job as a library function (the CLI only parses): a ray file through a
+// structure into a hit file and a stats record.
 #pragma once
-#include <chrono>
-#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "core/accel/accelerator.h"
+#include "core/base/parallel.h"
 #include "core/scene/scene.h"
 
 namespace gs {
-
-constexpr int kMaxThreads = 1024;
-// std::thread::hardware_concurrency(), or 1 where it is unknown.
-int default_thread_count();
-// Throws UsageError unless 1 <= threads <= kMaxThreads.
-void check_thread_count(int threads);
 
 struct TraceJob {
   std::string scene;       // a path or builtin:NAME
@@ -45,37 +38,5 @@ struct TraceJob {
 // traces with job.threads threads, writes the hit file and, if asked, the stats file.
 // Returns the stats. Throws UsageError or InputError.
 nlohmann::json run_trace(const TraceJob& job);
-
-// body(context, begin, end) handles items [begin, end) with the context of the thread it
-// runs on. Chunks of `chunk` items of [0, count) are handed out dynamically to `threads`
-// threads (the caller's among them); each thread has its own context. Returns the merged
-// counters. An exception in any thread stops the loop and is rethrown here.
-using ChunkBody = std::function<void(ThreadContext&, size_t, size_t)>;
-TraceCounters parallel_chunks(const Accelerator& accel, size_t count, size_t chunk, int threads,
-                              const ChunkBody& body);
-
-// What a run measured besides the structure's own figures.
-struct RunFigures {
-  uint64_t rays = 0;
-  double build_seconds = 0.0;  // build + sampling pass + eager build; lazy work comes from counters
-  double trace_seconds = 0.0;
-  TraceCounters counters;
-};
-
-// The stats record (DESIGN.md §3 `--stats`); `parameters` is echoed as given.
-nlohmann::json run_stats(const Scene& scene, const Accelerator& accel, nlohmann::json parameters,
-                         const RunFigures& figures);
-// Writes JSON with a final newline. Throws InputError naming the path when it cannot.
-void write_json(const std::string& path, const nlohmann::json& json);
-
-// The median of timed repetitions (the mean of the middle two for an even count); 0 for none.
-double median(std::vector<double> values);
-
-template <class Work>
-double seconds_of(Work&& work) {
-  const auto start = std::chrono::steady_clock::now();
-  work();
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 }  // namespace gs

@@ -16,7 +16,7 @@
 
 #include "core/accel/brute.h"
 #include "core/base/error.h"
-#include "core/trace/trace_job.h"
+#include "core/trace/run.h"
 #include "tests/fuzz/differential.h"
 #include "tests/fuzz/fuzz_entries.h"
 
@@ -26,7 +26,6 @@ namespace {
 constexpr uint32_t kMaxTriangles = 64;
 constexpr uint32_t kMaxRays = 64;
 constexpr size_t kMaxProblems = 16;  // per input: enough to see a pattern, short to read
-constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // The fuzzer's bytes read as a stream of choices. Past the end every read gives 0, so any
 // input, even an empty one, describes a whole case, and a longer input refines it.
@@ -289,7 +288,7 @@ std::vector<Hit> trace(const Accelerator& accel, const std::vector<Ray>& rays, i
                        bool any_hit) {
   std::vector<Hit> hits(rays.size());
   // Chunks of 2 rays: two threads meet the same unbuilt voxels.
-  parallel_chunks(
+  trace_chunks(
       accel, rays.size(), 2, threads, [&](ThreadContext& context, size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i)
           hits[i] = any_hit ? accel.any_hit(rays[i], context) : accel.intersect(rays[i], context);

@@ -14,6 +14,7 @@
 
 #include "app/cli.h"
 #include "core/base/error.h"
+#include "core/base/files.h"
 #include "core/geometry/ray_io.h"
 #include "core/scene/scene.h"
 #include "tests/fuzz/differential.h"

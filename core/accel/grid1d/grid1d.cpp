@@ -9,21 +9,16 @@
 
 #include "core/accel/grid1d/cost_model.h"
 #include "core/base/error.h"
+#include "core/base/timing.h"
 
 namespace gs {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-constexpr double kInf = std::numeric_limits<double>::infinity();
 // Absolute granularities stay exact integers in double (wall = x0 + E * (I / G)).
 constexpr uint64_t kMaxAbsoluteGranularity = uint64_t{1} << 50;
 // Depth cap when --max-depth is not given: far deeper than the cost function goes on real
 // scenes; it bounds degenerate input.
 constexpr int kDefaultMaxDepth = 32;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // A wall of the global grid (origin, extent, granularity). Computed from the integer index
 // so that one physical wall has bit-identical coordinates at every level: I / G is the
@@ -812,6 +807,7 @@ bool Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
   std::copy(parent.above, parent.above + 3, voxel.above);
   voxel.first_cell = parent.cell[axis] * g;
   ++subdivided_;
+  raise_to(deepest_, parent.depth + 1);
   return true;
 }
 
@@ -821,6 +817,7 @@ StructureStats Grid1D::stats() const {
   s.voxels_subdivided = subdivided_.load();
   s.leaves = voxels_.size() - subdivided_.load();
   s.traversal_states = states_.size();
+  s.depth = deepest_.load();
   s.memory_bytes = bytes_used_ + triangles_.size() * sizeof(TriangleVerts) +
                    tri_box_.size() * sizeof(double) + sample_.size() * sizeof(SampleRay) +
                    states_.size() * sizeof(StateInfo);

@@ -13,8 +13,9 @@
 
 #include "core/accel/accelerator.h"
 #include "core/accel/grid1d/cost_model.h"
-#include "core/geometry/kernel.h"
+#include "core/base/atomic.h"
 #include "core/base/stable_array.h"
+#include "core/geometry/kernel.h"
 
 namespace gs {
 
@@ -52,6 +53,7 @@ class Grid1D final : public Accelerator {
   Hit any_hit(const Ray& ray, ThreadContext& context) const override;
   StructureStats stats() const override;
   std::optional<Walk> record_walk(const Ray& ray, ThreadContext& context) const override;
+  const Grid1D* grid1d() const override { return this; }
 
   static constexpr uint32_t kNone = UINT32_MAX;  // "no voxel above": the scene box itself
 
@@ -173,6 +175,7 @@ class Grid1D final : public Accelerator {
   mutable std::unordered_map<uint64_t, uint32_t> state_ids_;
   mutable std::atomic<uint64_t> subdivided_{0};
   mutable std::atomic<uint64_t> over_budget_{0};
+  mutable std::atomic<uint64_t> deepest_{0};
   mutable std::atomic<uint64_t> bytes_used_{0};
   bool reserve_bytes(uint64_t bytes) const;
 };
