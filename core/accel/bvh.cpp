@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <glm/common.hpp>
 #include <limits>
 
 #include "core/base/timing.h"
@@ -123,11 +124,13 @@ struct Bvh::Builder {
     return mid;
   }
 
+  // Each triangle lies in exactly one leaf: none needs the mailbox.
   void make_leaf(uint32_t node, uint32_t begin, uint32_t end) {
-    bvh.nodes_[node].first = uint32_t(bvh.triangles_.size());
+    std::vector<uint32_t> leaf(ids.begin() + begin, ids.begin() + end);
+    for (uint32_t& id : leaf) id |= kOnlyHere;
+    bvh.nodes_[node].first = bvh.leaves_.add(leaf, verts);
     bvh.nodes_[node].count = end - begin;
-    for (uint32_t i = begin; i < end; ++i) bvh.triangles_.push_back({verts[ids[i]], ids[i]});
-    ++bvh.leaves_;
+    ++bvh.leaves_count_;
   }
 
   void build(uint32_t node, uint32_t begin, uint32_t end, int depth) {
@@ -142,10 +145,10 @@ struct Bvh::Builder {
     const double leaf_cost = kIntersectionCost * n;
     if (n <= uint32_t(bvh.leaf_size_) && !(split.cost < leaf_cost))
       return make_leaf(node, begin, end);
-    // Nodes are the only part that grows with splitting (each triangle is copied once
+    // Nodes and leaf headers are what grows with splitting (each triangle is stored once
     // whatever the tree): a split whose two children would exceed the budget is not made.
     // Depth first, so under a tight budget the first subtrees get the nodes.
-    if ((bvh.nodes_.size() + 2) * sizeof(Node) > bvh.memory_budget_) {
+    if ((bvh.nodes_.size() + 2) * (sizeof(Node) + LeafStore::bytes_for(0)) > bvh.memory_budget_) {
       ++bvh.over_budget_;
       return make_leaf(node, begin, end);
     }
@@ -162,28 +165,28 @@ struct Bvh::Builder {
 Bvh::Bvh(const AccelParams& params)
     : leaf_size_(params.leaf_size_or(kDefaultLeafSize)),
       max_depth_(std::min(params.depth_or(kDefaultMaxDepth), kMaxDepthCap)),
-      memory_budget_(params.memory_budget) {}
+      memory_budget_(params.memory_budget),
+      kernel_(kernel_for(kernel_isa())) {}
 
 void Bvh::build(const Scene& scene) {
   const auto start = Clock::now();
-  const std::vector<TriangleVerts> verts = gather_triangles(scene);
-  bounds_ = scene.bounds();
-  root_ = ClipBox(bounds_);
-  nodes_.clear(), triangles_.clear(), leaves_ = over_budget_ = deepest_ = 0;
-  Builder builder{*this, std::vector<DBox>(verts.size()), {}, {}, verts};
+  input_ = BuildInput(scene);
+  nodes_.clear(), leaves_count_ = over_budget_ = deepest_ = 0;
+  // Every triangle is stored once, in at most one leaf per triangle.
+  leaves_.reset(2 * LeafStore::bytes_for(uint32_t(input_.usable.size())));
+  const std::vector<TriangleVerts>& verts = input_.triangles;
+  Builder builder{*this, std::vector<DBox>(verts.size()), {}, input_.usable, verts};
   builder.centroids.resize(verts.size());
-  for (uint32_t id = 0; id < verts.size(); ++id) {
-    if (scene.is_degenerate(id)) continue;
+  for (const uint32_t id : input_.usable) {
+    const double* box = input_.box(id);  // padded: a node never culls a reported hit
     const TriangleVerts& t = verts[id];
     const glm::dvec3 lo = glm::min(t.v0, glm::min(t.v1, t.v2));
     const glm::dvec3 hi = glm::max(t.v0, glm::max(t.v1, t.v2));
     for (int a = 0; a < 3; ++a) {
-      // Padded by the kernel's possible error (ClipBox): never cull a reported hit.
-      builder.boxes[id].lo[a] = lo[a] - root_.padding;
-      builder.boxes[id].hi[a] = hi[a] + root_.padding;
+      builder.boxes[id].lo[a] = box[a];
+      builder.boxes[id].hi[a] = box[a + 3];
       builder.centroids[id][a] = 0.5 * (lo[a] + hi[a]);
     }
-    builder.ids.push_back(id);
   }
   if (!builder.ids.empty()) {
     nodes_.reserve(std::min<uint64_t>(2 * builder.ids.size(), memory_budget_ / sizeof(Node) + 1));
@@ -191,94 +194,118 @@ void Bvh::build(const Scene& scene) {
     builder.build(0, 0, uint32_t(builder.ids.size()), 0);
   }
   nodes_.shrink_to_fit();
+  input_.release_triangles();
   build_seconds_ = seconds_since(start);
 }
 
 std::unique_ptr<ThreadContext> Bvh::make_context() const {
-  return std::make_unique<ThreadContext>();
+  return std::make_unique<MailboxContext>();
 }
 
-// The ray as the slab test reads it, in double: a node's box is entered at the returned t
-// within [t_lo, t_hi], or kInf when the ray misses it there.
+namespace {
+
+// gamma(3) of Ize's bound: 3u / (1 - 3u), u = 2^-24, rounded up. A slab distance computed in
+// float ((plane - origin) * (1 / dir), three roundings) is within a factor 1 +- gamma(3) of
+// the exact one, so moving exits away from the entries by 2 gamma(3) of their magnitude
+// never loses a crossing, whatever the signs (rays may start at negative t); 3 gamma(3)
+// also covers the rounding of the widening itself.
+constexpr float kGamma3 = 1.7881409e-7f;
+
+// x moved toward +infinity by `share` of its magnitude (infinities and NaN unchanged).
+float widened(float x, float share) { return x * (1 + std::copysign(share, x)); }
+
+// The largest float not above x (the ray's clipped start, rounded down).
+float float_below(double x) {
+  const float f = float(x);
+  return double(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+}
+
+}  // namespace
+
+// The ray as the slab test reads it, in float: per axis the near and far planes' index
+// (by the direction's sign) and 1 / dir, which is infinite for a zero component. A plane
+// the origin lies on then gives 0 * inf = NaN, which the selects below ignore: that axis
+// does not constrain the ray, as it should not.
 struct Bvh::RayBox {
-  double origin[3], inv_dir[3];
-  bool zero[3];
-  double t_lo;
-  double entry(const Node& node, double t_hi) const {
-    double t0 = t_lo, t1 = t_hi;
+  float origin[3], inv_dir[3];
+  int near[3];  // 0: lo is the near plane, 1: hi
+  float t_lo;   // the ray's clipped start, rounded down
+  // The node's entry distance when the ray crosses it before t_hi, else +inf.
+  float entry(const Node& node, float t_hi) const {
+    const float* planes[2] = {node.lo, node.hi};
+    float t0 = t_lo, t1 = t_hi;
     for (int a = 0; a < 3; ++a) {
-      if (zero[a]) {
-        if (origin[a] < node.lo[a] || origin[a] > node.hi[a]) return kInf;
-        continue;
-      }
-      double ta = (double(node.lo[a]) - origin[a]) * inv_dir[a];
-      double tb = (double(node.hi[a]) - origin[a]) * inv_dir[a];
-      if (ta > tb) std::swap(ta, tb);
-      t0 = std::max(t0, ta), t1 = std::min(t1, tb);
+      const float t_near = (planes[near[a]][a] - origin[a]) * inv_dir[a];
+      const float t_far = widened((planes[1 - near[a]][a] - origin[a]) * inv_dir[a], 3 * kGamma3);
+      t0 = t_near > t0 ? t_near : t0;
+      t1 = t_far < t1 ? t_far : t1;
     }
-    return t0 <= t1 ? t0 : kInf;
+    return t0 <= t1 ? t0 : std::numeric_limits<float>::infinity();
   }
 };
 
 Hit Bvh::intersect(const Ray& ray, ThreadContext& context) const {
-  return trace<false>(ray, context);
+  return trace<false>(ray, static_cast<MailboxContext&>(context));
 }
 
-Hit Bvh::any_hit(const Ray& ray, ThreadContext& context) const { return trace<true>(ray, context); }
+Hit Bvh::any_hit(const Ray& ray, ThreadContext& context) const {
+  return trace<true>(ray, static_cast<MailboxContext&>(context));
+}
 
-// Clips as brute does, then walks the tree nearer child first, skipping every node that
-// begins beyond the nearest hit so far (ties kept by `closer`, so an equal-t hit in a
-// later node still wins by its lower id).
+// Clips as brute does, then walks the tree nearer child first, skipping every node whose
+// entry lies beyond the nearest hit so far (ties kept by `closer`, so an equal-t hit in a
+// later node still wins by its lower id). `limit` is that stop distance in float, rounded
+// up and widened by Ize's bound for the entry's own rounding.
 template <bool AnyHit>
-Hit Bvh::trace(const Ray& ray, ThreadContext& context) const {
+Hit Bvh::trace(const Ray& ray, MailboxContext& context) const {
   Hit best;
-  double t_enter, t_leave;
+  double t_enter, t_leave, inv_dir[3];
+  if (nodes_.empty() || !input_.clip.clip(ray, t_enter, t_leave, inv_dir)) return best;
   RayBox rb;
-  if (nodes_.empty() || !root_.clip(ray, t_enter, t_leave, rb.inv_dir)) return best;
   for (int a = 0; a < 3; ++a) {
     rb.origin[a] = ray.origin[a];
-    rb.zero[a] = ray.dir[a] == 0.0f;
+    rb.inv_dir[a] = 1.0f / ray.dir[a];
+    rb.near[a] = std::signbit(ray.dir[a]) ? 1 : 0;
   }
-  const double slack = walk_slack(ray, root_.magnitude);
-  rb.t_lo = t_enter - slack;
-  const PreparedRay<KernelReal> prepared(ray, t_enter);
+  const double slack = walk_slack(ray, input_.clip.magnitude, inv_dir);
+  rb.t_lo = float_below(t_enter - slack);
+  const auto limit_of = [&](float tmax) {
+    return widened(float(stop_distance(tmax, slack)), 4 * kGamma3);
+  };
+  const PreparedRay<KernelReal> prepared(ray, t_enter, inv_dir);
   float tmax = ray.tmax;
+  float limit = limit_of(tmax);
   TraceCounters& counters = context.counters;
+  const uint64_t ray_id = context.mailbox.next_ray();
   struct Entry {
     uint32_t node;
-    double t;
+    float t;
   };
   Entry stack[kMaxDepthCap + 2];
   int top = 0;
-  const double t_root = rb.entry(nodes_[0], stop_distance(tmax, slack));
-  if (t_root < kInf) stack[top++] = {0, t_root};
+  constexpr float kMiss = std::numeric_limits<float>::infinity();
+  const float t_root = rb.entry(nodes_[0], limit);
+  if (t_root < kMiss) stack[top++] = {0, t_root};
   while (top > 0) {
     const Entry e = stack[--top];
-    if (e.t > stop_distance(tmax, slack)) continue;
+    if (e.t > limit) continue;
     const Node& node = nodes_[e.node];
     ++counters.traversal_steps;
     if (node.count > 0) {
-      for (uint32_t i = node.first; i < node.first + node.count; ++i) {
-        const PackedTriangle& tri = triangles_[i];
-        ++counters.intersection_tests;
-        float t, u, v;
-        if (intersect_triangle(prepared, tri.verts.v0, tri.verts.v1, tri.verts.v2, tmax, t, u, v) &&
-            closer(t, int32_t(tri.id), best)) {
-          best = {int32_t(tri.id), t, u, v};
-          tmax = t;
-          if (AnyHit) return best;
-        }
+      if (test_leaf<AnyHit>(leaves_.view(node.first), kernel_, prepared, ray_id, tmax, best,
+                            context.mailbox, counters)) {
+        if (AnyHit) return best;
+        limit = limit_of(tmax);
       }
       continue;
     }
-    const double t_hi = stop_distance(tmax, slack);
-    const double ta = rb.entry(nodes_[node.first], t_hi);
-    const double tb = rb.entry(nodes_[node.first + 1], t_hi);
+    const float ta = rb.entry(nodes_[node.first], limit);
+    const float tb = rb.entry(nodes_[node.first + 1], limit);
     const bool a_first = ta <= tb;
     const Entry near{a_first ? node.first : node.first + 1, a_first ? ta : tb};
     const Entry far{a_first ? node.first + 1 : node.first, a_first ? tb : ta};
-    if (far.t < kInf) stack[top++] = far;
-    if (near.t < kInf) stack[top++] = near;
+    if (far.t < kMiss) stack[top++] = far;
+    if (near.t < kMiss) stack[top++] = near;
   }
   return best;
 }
@@ -286,11 +313,11 @@ Hit Bvh::trace(const Ray& ray, ThreadContext& context) const {
 StructureStats Bvh::stats() const {
   StructureStats s;
   s.nodes = nodes_.size();
-  s.leaves = leaves_;
-  s.voxels_subdivided = nodes_.size() - leaves_;
+  s.leaves = leaves_count_;
+  s.voxels_subdivided = nodes_.size() - leaves_count_;
   s.traversal_states = std::nullopt;
   s.depth = deepest_;
-  s.memory_bytes = nodes_.size() * sizeof(Node) + triangles_.size() * sizeof(PackedTriangle);
+  s.memory_bytes = nodes_.size() * sizeof(Node) + leaves_.bytes();
   s.build_seconds = build_seconds_;
   s.voxels_over_budget = over_budget_;
   return s;

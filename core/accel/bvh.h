@@ -6,12 +6,14 @@
 // always split (by the median when the SAH finds no split), one with fewer becomes a leaf
 // when no split is cheaper. `max_depth` (default 64) caps the depth. Built eagerly.
 //
-// Nodes are packed in 32 bytes (box in float + first/count); triangles are copied in leaf
-// order. Node boxes are the triangles' boxes padded by ClipBox::padding and rounded
-// outward to float, and tested in double against the ray, so a hit the kernel reports is
-// never culled and answers equal brute's bit for bit. Traversal: a scalar stack, nearer
-// child first, skipping nodes whose entry t lies beyond the nearest hit (plus the same
-// slack as the grids).
+// Nodes are packed in 32 bytes (box in float + first/count); each leaf's triangles are
+// stored once in the kernel's form (core/geometry/leaf.h). Node boxes are the triangles'
+// boxes padded by ClipBox::padding and rounded outward to float. Traversal, as an ordinary
+// fast scalar BVH does it: float slab tests with the exit widened by the bound of Ize,
+// "Robust BVH Ray Traversal" (JCGT 2(2), 2013), so that rounding never culls a node the
+// ray crosses, and a hit the kernel reports is never culled: answers equal brute's bit for
+// bit. A scalar stack, nearer child first, skipping nodes whose entry lies beyond the
+// nearest hit (plus the slack every walk allows), the stop distance updated only on a hit.
 //
 // Stats: nodes, leaves, voxels_subdivided = inner nodes, traversal_states = null,
 // traversal_steps = nodes visited (popped and not culled, root included),
@@ -21,7 +23,8 @@
 #include <vector>
 
 #include "core/accel/accelerator.h"
-#include "core/geometry/kernel.h"
+#include "core/geometry/leaf.h"
+#include "core/geometry/triangles.h"
 
 namespace gs {
 
@@ -35,7 +38,7 @@ class Bvh final : public Accelerator {
 
   std::string name() const override { return "bvh"; }
   void build(const Scene& scene) override;
-  Box bounds() const override { return bounds_; }
+  Box bounds() const override { return input_.bounds; }
   std::unique_ptr<ThreadContext> make_context() const override;
   Hit intersect(const Ray& ray, ThreadContext& context) const override;
   Hit any_hit(const Ray& ray, ThreadContext& context) const override;
@@ -43,15 +46,11 @@ class Bvh final : public Accelerator {
 
   struct Node {
     float lo[3];
-    uint32_t first;  // inner: left child (right = first + 1); leaf: first triangle
+    uint32_t first;  // inner: left child (right = first + 1); leaf: its leaf handle
     float hi[3];
     uint32_t count;  // 0 for an inner node
   };
   static_assert(sizeof(Node) == 32);
-  struct PackedTriangle {
-    TriangleVerts verts;
-    uint32_t id;
-  };
 
   size_t node_count() const { return nodes_.size(); }
   const Node& node(uint32_t id) const { return nodes_[id]; }
@@ -60,16 +59,16 @@ class Bvh final : public Accelerator {
   struct Builder;
   struct RayBox;
   template <bool AnyHit>
-  Hit trace(const Ray& ray, ThreadContext& context) const;
+  Hit trace(const Ray& ray, MailboxContext& context) const;
 
   int leaf_size_;
   int max_depth_;
   uint64_t memory_budget_;  // bytes of nodes
+  Kernel kernel_;
   std::vector<Node> nodes_;
-  std::vector<PackedTriangle> triangles_;
-  Box bounds_;
-  ClipBox root_;
-  uint64_t leaves_ = 0, over_budget_ = 0, deepest_ = 0;
+  LeafStore leaves_;
+  BuildInput input_;
+  uint64_t leaves_count_ = 0, over_budget_ = 0, deepest_ = 0;
   double build_seconds_ = 0.0;
 };
 

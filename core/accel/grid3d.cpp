@@ -38,22 +38,6 @@ struct NestedGrid::Plan {
   uint64_t refs = 0;
 };
 
-// Per-thread scratch: the ray-id mailbox (Jevans 1990 §6.4; per thread, 64-bit ids, as in
-// grid1d: a per-triangle stamp would race between threads and 32-bit ids would wrap).
-class alignas(64) NestedGrid::Context final : public ThreadContext {
- public:
-  bool already_tested(uint32_t triangle, uint64_t ray) {
-    const size_t slot = triangle & (kMailboxSlots - 1);
-    if (mailbox_ray[slot] == ray && mailbox_triangle[slot] == triangle) return true;
-    mailbox_ray[slot] = ray, mailbox_triangle[slot] = triangle;
-    return false;
-  }
-  static constexpr size_t kMailboxSlots = 256;
-  uint64_t mailbox_ray[kMailboxSlots] = {};
-  uint32_t mailbox_triangle[kMailboxSlots] = {};
-  uint64_t ray_id = 0;
-};
-
 // One ray's walk, shared by every level: the ray in double, the kernel's prepared ray and
 // the nearest hit so far.
 struct NestedGrid::RayWalk {
@@ -72,27 +56,22 @@ NestedGrid::NestedGrid(const AccelParams& params)
       max_depth_(std::min(params.depth_or(kDefaultMaxDepth), kMaxDepthCap)),
       // Address space only (committed as touched); at least 4 GiB each so that the root
       // grid, which is built whatever the budget, always fits.
+      kernel_(kernel_for(kernel_isa())),
       grids_(std::max(params.memory_budget, uint64_t{1} << 32)),
       cells_(std::max(params.memory_budget, uint64_t{1} << 32)),
-      refs_(std::max(params.memory_budget, uint64_t{1} << 32)) {}
+      leaves_(std::max(params.memory_budget, uint64_t{1} << 32)) {}
 
 NestedGrid::~NestedGrid() = default;
 
 void NestedGrid::build(const Scene& scene) {
   const auto start = Clock::now();
-  triangles_ = gather_triangles(scene);
-  bounds_ = scene.bounds();
-  root_ = ClipBox(bounds_);
-  std::vector<uint32_t> usable;
-  tri_box_ = root_.padded_boxes(triangles_);
-  for (uint32_t id = 0; id < triangles_.size(); ++id) {
-    if (!scene.is_degenerate(id)) usable.push_back(id);
-  }
-  has_root_ = !usable.empty() && !root_.empty;
+  input_ = BuildInput(scene);
+  const ClipBox& root = input_.clip;
+  has_root_ = !input_.usable.empty() && !root.empty;
   if (has_root_) {
     // The root grid is built up front, whatever the budget: there must be one.
     Plan plan;
-    plan_grid(root_.lo, root_.hi, usable, 1, plan);
+    plan_grid(root.lo, root.hi, input_.usable, 1, plan);
     uint32_t root_id = 0;
     if (!commit(plan, 1, root_id))
       throw std::runtime_error("grid3d: the root grid does not fit in 32-bit indices");
@@ -102,7 +81,7 @@ void NestedGrid::build(const Scene& scene) {
 
 void NestedGrid::build_all() {
   const auto start = Clock::now();
-  Context context;
+  MailboxContext context;
   // Sub-grids append their cells at the end, so one pass in order reaches them all.
   for (size_t id = 0; id < cells_.size(); ++id)
     if (cells_[id].status.load(std::memory_order_acquire) == kUnexamined)
@@ -111,32 +90,32 @@ void NestedGrid::build_all() {
 }
 
 std::unique_ptr<ThreadContext> NestedGrid::make_context() const {
-  return std::make_unique<Context>();
+  return std::make_unique<MailboxContext>();
 }
 
 Hit NestedGrid::intersect(const Ray& ray, ThreadContext& context) const {
-  return trace<false>(ray, static_cast<Context&>(context));
+  return trace<false>(ray, static_cast<MailboxContext&>(context));
 }
 
 Hit NestedGrid::any_hit(const Ray& ray, ThreadContext& context) const {
-  return trace<true>(ray, static_cast<Context&>(context));
+  return trace<true>(ray, static_cast<MailboxContext&>(context));
 }
 
 // Clips the ray to the scene box exactly as brute does (the kernel sees the origin moved
 // to t_enter), then walks the root grid from there.
 template <bool AnyHit>
-Hit NestedGrid::trace(const Ray& ray, Context& context) const {
+Hit NestedGrid::trace(const Ray& ray, MailboxContext& context) const {
   RayWalk w;
   double t_enter, t_leave;
-  if (!has_root_ || !root_.clip(ray, t_enter, t_leave, w.inv_dir)) return Hit{};
+  if (!has_root_ || !input_.clip.clip(ray, t_enter, t_leave, w.inv_dir)) return Hit{};
   for (int a = 0; a < 3; ++a) {
     w.origin[a] = ray.origin[a], w.dir[a] = ray.dir[a];
     w.step[a] = w.dir[a] > 0.0 ? 1 : w.dir[a] < 0.0 ? -1 : 0;
   }
-  w.slack = walk_slack(ray, root_.magnitude);
+  w.slack = walk_slack(ray, input_.clip.magnitude, w.inv_dir);
   w.tmax = ray.tmax;
-  w.ray_id = ++context.ray_id;
-  const PreparedRay<KernelReal> prepared(ray, t_enter);
+  w.ray_id = context.mailbox.next_ray();
+  const PreparedRay<KernelReal> prepared(ray, t_enter, w.inv_dir);
   w.prepared = &prepared;
   walk<AnyHit>(0, t_enter, -1, w, context);
   return w.best;
@@ -148,7 +127,7 @@ Hit NestedGrid::trace(const Ray& ray, Context& context) const {
 // when the ray has left this grid and the parent's DDA resumes.
 template <bool AnyHit>
 bool NestedGrid::walk(uint32_t grid_id, double t_cur, int entered_axis, RayWalk& w,
-                      Context& context) const {
+                      MailboxContext& context) const {
   const GridNode& g = grids_[grid_id];
   int32_t index[3];
   double t_origin[3] = {0, 0, 0}, t_width[3] = {0, 0, 0}, t_next[3];
@@ -192,33 +171,16 @@ bool NestedGrid::walk(uint32_t grid_id, double t_cur, int entered_axis, RayWalk&
 // Tests the cell's triangles not yet tested by this ray, keeping the nearest hit (lowest
 // id among equal t) wherever it lies; true when one was hit.
 template <bool AnyHit>
-bool NestedGrid::test_cell(const Cell& cell, RayWalk& w, Context& context) const {
-  TraceCounters& counters = context.counters;
-  bool found = false;
-  for (uint32_t i = 0; i < cell.ref_count; ++i) {
-    const PackedTriangle& record = refs_[cell.ref_begin + i];
-    if (!record.only_here && context.already_tested(record.id, w.ray_id)) {
-      ++counters.mailbox_rejections;
-      continue;
-    }
-    ++counters.intersection_tests;
-    const TriangleVerts& tri = record.verts;
-    float t, u, v;
-    if (intersect_triangle(*w.prepared, tri.v0, tri.v1, tri.v2, w.tmax, t, u, v) &&
-        closer(t, int32_t(record.id), w.best)) {
-      w.best = {int32_t(record.id), t, u, v};
-      w.tmax = t;
-      found = true;
-      if (AnyHit) return true;
-    }
-  }
-  return found;
+bool NestedGrid::test_cell(const Cell& cell, RayWalk& w, MailboxContext& context) const {
+  return cell.ref_count > 0 &&
+         test_leaf<AnyHit>(leaves_.view(cell.leaf), kernel_, *w.prepared, w.ray_id, w.tmax,
+                           w.best, context.mailbox, context.counters);
 }
 
 // The lazy build of one cell (DESIGN.md §1 "Laziness"): the thread that wins the CAS
 // builds the sub-grid and publishes it with a release store; others meanwhile search the
 // cell as the leaf it still is, so nobody waits.
-uint8_t NestedGrid::examine(uint32_t cell_id, Context& context) const {
+uint8_t NestedGrid::examine(uint32_t cell_id, MailboxContext& context) const {
   Cell& cell = cells_[cell_id];
   uint8_t expected = kUnexamined;
   if (!cell.status.compare_exchange_strong(expected, kBuilding, std::memory_order_acquire))
@@ -240,7 +202,8 @@ bool NestedGrid::subdivide(uint32_t cell_id) const {
   double lo[3], hi[3];
   cell_box(owner, cell_id - owner.first_cell, lo, hi);
   std::vector<uint32_t> ids(cell.ref_count);
-  for (uint32_t i = 0; i < cell.ref_count; ++i) ids[i] = refs_[cell.ref_begin + i].id;
+  const LeafView leaf = leaves_.view(cell.leaf);
+  for (uint32_t i = 0; i < cell.ref_count; ++i) ids[i] = leaf.id(i);
   Plan plan;
   if (!plan_grid(lo, hi, ids, 2, plan)) return false;
   uint32_t grid_id = 0;
@@ -265,7 +228,7 @@ bool NestedGrid::plan_grid(const double lo[3], const double hi[3], const std::ve
     extent[a] = hi[a] - lo[a];
     longest = std::max(longest, extent[a]);
   }
-  const double min_width = root_.min_cell_width(lo, hi);
+  const double min_width = input_.clip.min_cell_width(lo, hi);
   int r =
       std::clamp(int(std::lround(std::cbrt(double(ids.size())))), min_long_side, kMaxResolution);
   for (;;) {
@@ -297,7 +260,7 @@ void NestedGrid::sort_into(const double lo[3], const double hi[3],
   plan.ranges.resize(ids.size());
   plan.refs = 0;
   for (size_t i = 0; i < ids.size(); ++i) {
-    const double* box = &tri_box_[size_t(ids[i]) * 6];
+    const double* box = input_.box(ids[i]);
     uint64_t count = 1;
     for (int a = 0; a < 3; ++a) {
       const double inv_width = double(res[a]) / (hi[a] - lo[a]);
@@ -337,19 +300,18 @@ void fill_cells(const std::vector<std::array<int32_t, 6>>& ranges, const std::ve
 // published) when they do not fit the memory budget or the 32-bit indices.
 bool NestedGrid::commit(const Plan& plan, uint32_t depth, uint32_t& grid_id) const {
   const size_t cells = size_t(plan.res[0]) * plan.res[1] * plan.res[2];
-  const uint64_t bytes =
-      sizeof(GridNode) + cells * sizeof(Cell) + plan.refs * sizeof(PackedTriangle);
+  const uint64_t bytes = sizeof(GridNode) + cells * (sizeof(Cell) + LeafStore::bytes_for(0)) +
+                         plan.refs * (LeafStore::bytes_for(1) - LeafStore::bytes_for(0));
   const bool root = depth == 1;
-  if (cells_.size() + cells >= UINT32_MAX || refs_.size() + plan.refs >= UINT32_MAX) return false;
+  if (cells_.size() + cells >= UINT32_MAX) return false;
   if (root)
     bytes_used_ += bytes;
   else if (!reserve_bytes(bytes))
     return false;
   std::vector<uint32_t> offsets, flat;
   fill_cells(plan.ranges, plan.ids, plan.res, offsets, flat);
-  const size_t g = grids_.append(1), first_cell = cells_.append(cells),
-               first_ref = refs_.append(flat.size());
-  if (g == SIZE_MAX || first_cell == SIZE_MAX || first_ref == SIZE_MAX) return false;
+  const size_t g = grids_.append(1), first_cell = cells_.append(cells);
+  if (g == SIZE_MAX || first_cell == SIZE_MAX) return false;
   GridNode& grid = grids_[g];
   for (int a = 0; a < 3; ++a) {
     grid.lo[a] = plan.lo[a], grid.hi[a] = plan.hi[a], grid.res[a] = plan.res[a];
@@ -362,20 +324,22 @@ bool NestedGrid::commit(const Plan& plan, uint32_t depth, uint32_t& grid_id) con
   const bool may_split = int(depth) < max_depth_;
   for (size_t c = 0; c < cells; ++c) {
     Cell& cell = cells_[first_cell + c];
-    cell.ref_begin = uint32_t(first_ref + offsets[c]);
     cell.ref_count = offsets[c + 1] - offsets[c];
     cell.child = uint32_t(g);  // the owner, until the cell gets a sub-grid
     const bool crowded = may_split && cell.ref_count > uint32_t(leaf_size_);
     cell.status.store(crowded ? kUnexamined : kLeaf, std::memory_order_relaxed);
+    if (cell.ref_count == 0) continue;
     double lo[3], hi[3];
     cell_box(grid, uint32_t(c), lo, hi);
-    for (uint32_t i = 0; i < cell.ref_count; ++i) {
-      const uint32_t id = flat[offsets[c] + i];
-      const double* box = &tri_box_[size_t(id) * 6];
+    std::vector<uint32_t> ids(flat.begin() + offsets[c], flat.begin() + offsets[c + 1]);
+    for (uint32_t& id : ids) {
+      const double* box = input_.box(id);
       bool inside = true;
       for (int a = 0; a < 3; ++a) inside &= box[a] >= lo[a] && box[a + 3] <= hi[a];
-      refs_[cell.ref_begin + i] = {triangles_[id], id, inside};
+      if (inside) id |= kOnlyHere;
     }
+    cell.leaf = leaves_.add(ids, input_.triangles);
+    if (cell.leaf == LeafStore::kFull) return false;
   }
   grid_id = uint32_t(g);
   return true;
@@ -410,8 +374,8 @@ StructureStats NestedGrid::stats() const {
   s.leaves = cells_.size() - subdivided_.load();
   s.traversal_states = std::nullopt;
   s.depth = deepest_.load();
-  s.memory_bytes = bytes_used_.load() + triangles_.size() * sizeof(TriangleVerts) +
-                   tri_box_.size() * sizeof(double);
+  s.memory_bytes = bytes_used_.load() + input_.triangles.size() * sizeof(TriangleVerts) +
+                   input_.boxes.size() * sizeof(double);
   s.build_seconds = build_seconds_;
   s.voxels_over_budget = over_budget_.load();
   return s;

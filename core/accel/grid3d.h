@@ -22,7 +22,8 @@
 #include "core/accel/accelerator.h"
 #include "core/base/atomic.h"
 #include "core/base/stable_array.h"
-#include "core/geometry/kernel.h"
+#include "core/geometry/leaf.h"
+#include "core/geometry/triangles.h"
 
 namespace gs {
 
@@ -38,7 +39,7 @@ class NestedGrid final : public Accelerator {
   std::string name() const override { return "grid3d"; }
   void build(const Scene& scene) override;
   void build_all() override;
-  Box bounds() const override { return bounds_; }
+  Box bounds() const override { return input_.bounds; }
   std::unique_ptr<ThreadContext> make_context() const override;
   Hit intersect(const Ray& ray, ThreadContext& context) const override;
   Hit any_hit(const Ray& ray, ThreadContext& context) const override;
@@ -54,19 +55,13 @@ class NestedGrid final : public Accelerator {
   };
   // A cell. status is the lazy build's publication flag (release store of kSplit after
   // `child` and the child grid are written; acquire load before reading them). The
-  // triangle run never changes, so a cell being subdivided is still searched as a leaf.
+  // cell's leaf never changes, so a cell being subdivided is still searched as a leaf. A
+  // triangle whose padded box lies inside the cell skips the mailbox there.
   struct Cell {
     std::atomic<uint8_t> status;
-    uint32_t child;  // kSplit: the sub-grid's id
-    uint32_t ref_begin, ref_count;
-  };
-  // A cell's triangle as the kernel reads it, stored with the cell's others. A triangle
-  // whose padded box lies inside the cell cannot have been tested before by the ray, so
-  // it skips the mailbox.
-  struct PackedTriangle {
-    TriangleVerts verts;
-    uint32_t id : 31;
-    uint32_t only_here : 1;
+    uint32_t child;     // kSplit: the sub-grid's id
+    uint32_t leaf;      // its triangles' leaf handle (when ref_count > 0)
+    uint32_t ref_count;
   };
   enum Status : uint8_t { kUnexamined = 0, kBuilding, kLeaf, kSplit };
 
@@ -77,17 +72,16 @@ class NestedGrid final : public Accelerator {
   const Cell& cell(uint32_t id) const { return cells_[id]; }
 
  private:
-  class Context;
   struct RayWalk;
   struct Plan;
 
   template <bool AnyHit>
-  Hit trace(const Ray& ray, Context& context) const;
+  Hit trace(const Ray& ray, MailboxContext& context) const;
   template <bool AnyHit>
-  bool walk(uint32_t grid_id, double t_cur, int entered_axis, RayWalk& w, Context& context) const;
+  bool walk(uint32_t grid_id, double t_cur, int entered_axis, RayWalk& w, MailboxContext& context) const;
   template <bool AnyHit>
-  bool test_cell(const Cell& cell, RayWalk& w, Context& context) const;
-  uint8_t examine(uint32_t cell_id, Context& context) const;
+  bool test_cell(const Cell& cell, RayWalk& w, MailboxContext& context) const;
+  uint8_t examine(uint32_t cell_id, MailboxContext& context) const;
   bool subdivide(uint32_t cell_id) const;
   bool plan_grid(const double lo[3], const double hi[3], const std::vector<uint32_t>& ids,
                  int min_long_side, Plan& plan) const;
@@ -100,17 +94,15 @@ class NestedGrid final : public Accelerator {
   AccelParams params_;
   int leaf_size_ = kDefaultLeafSize;
   int max_depth_ = kDefaultMaxDepth;
-  std::vector<TriangleVerts> triangles_;
-  std::vector<double> tri_box_;  // per triangle lo.xyz, hi.xyz, padded by ClipBox::padding
-  Box bounds_;
-  ClipBox root_;
+  Kernel kernel_;
+  BuildInput input_;  // its clip box is the root grid's box
   bool has_root_ = false;
   double build_seconds_ = 0.0;
 
   // Lazily grown storage: appended by whichever thread subdivides a cell, never moved.
   mutable StableArray<GridNode> grids_;
   mutable StableArray<Cell> cells_;
-  mutable StableArray<PackedTriangle> refs_;
+  mutable LeafStore leaves_;
   mutable std::atomic<uint64_t> subdivided_{0};
   mutable std::atomic<uint64_t> over_budget_{0};
   mutable std::atomic<uint64_t> deepest_{0};  // the deepest sub-grid's depth - 1

@@ -18,33 +18,27 @@ constexpr uint64_t kInseparableCopies = 2;
 Octree::Octree(const AccelParams& params)
     : depth_(std::clamp(params.depth_or(kDefaultMaxDepth), 1, kDepthCap)),
       leaf_size_(size_t(params.leaf_size_or(kDefaultLeafSize))),
-      memory_budget_(params.memory_budget) {}
+      memory_budget_(params.memory_budget),
+      kernel_(kernel_for(kernel_isa())) {}
 
 void Octree::build(const Scene& scene) {
   const auto start = Clock::now();
-  triangles_ = gather_triangles(scene);
-  bounds_ = scene.bounds();
-  box_ = ClipBox(bounds_);
-  std::vector<uint32_t> usable;
-  degenerate_ = 0;
-  tri_box_ = box_.padded_boxes(triangles_);
-  for (uint32_t id = 0; id < triangles_.size(); ++id) {
-    if (scene.is_degenerate(id))
-      ++degenerate_;
-    else
-      usable.push_back(id);
-  }
+  input_ = BuildInput(scene);
+  std::vector<uint32_t> usable = input_.usable;
+  // Cuts keep nodes and leaves within the budget; the root, a leaf if nothing is cut, is
+  // built whatever the budget.
+  leaves_.reset(std::max(memory_budget_, LeafStore::bytes_for(uint32_t(usable.size()))));
   fine_ = uint32_t{1} << depth_;
   inv_fine_ = 1.0 / double(fine_);
   set_cell_extents();
   nodes_.assign(1, Node{0, 0});
-  refs_.clear();
+  references_ = 0;
   planned_refs_ = usable.size();
-  leaves_ = internal_ = over_budget_ = 0;
+  leaf_count_ = internal_ = over_budget_ = 0;
   depth_reached_ = 0;
   const uint32_t origin[3] = {0, 0, 0};
   build_node(0, 0, origin, usable);
-  tri_box_ = {};
+  input_.release_triangles();
   build_seconds_ = seconds_since(start);
 }
 
@@ -56,9 +50,9 @@ void Octree::build(const Scene& scene) {
 // scene box, as brute clips them.
 void Octree::set_cell_extents() {
   double longest = 0.0;
-  for (int a = 0; a < 3; ++a) longest = std::max(longest, box_.hi[a] - box_.lo[a]);
+  for (int a = 0; a < 3; ++a) longest = std::max(longest, input_.clip.hi[a] - input_.clip.lo[a]);
   for (int a = 0; a < 3; ++a) {
-    const double extent = box_.hi[a] - box_.lo[a];
+    const double extent = input_.clip.hi[a] - input_.clip.lo[a];
     cell_extent_[a] = extent < longest * inv_fine_ ? longest : extent;
     fine_scale_[a] = cell_extent_[a] > 0.0 ? double(fine_) / cell_extent_[a] : 0.0;
   }
@@ -83,10 +77,26 @@ void Octree::build_node(uint32_t node, int depth, const uint32_t lo[3],
     }
     return;
   }
-  nodes_[node] = {uint32_t(refs_.size()), uint32_t(tris.size())};
-  refs_.insert(refs_.end(), tris.begin(), tris.end());
-  ++leaves_;
+  nodes_[node] = {make_leaf(depth, lo, tris), uint32_t(tris.size())};
+  references_ += tris.size();
+  ++leaf_count_;
   depth_reached_ = std::max(depth_reached_, depth);
+}
+
+// Stores a leaf's triangles (a triangle whose padded box lies inside the leaf skips the
+// mailbox) and returns its handle; 0 for no triangles.
+uint32_t Octree::make_leaf(int depth, const uint32_t lo[3], const std::vector<uint32_t>& tris) {
+  if (tris.empty()) return 0;
+  const uint32_t size = fine_ >> depth;
+  std::vector<uint32_t> ids(tris);
+  for (uint32_t& id : ids) {
+    const double* box = input_.box(id);
+    bool inside = true;
+    for (int a = 0; a < 3; ++a)
+      inside &= box[a] >= wall(a, lo[a]) && box[a + 3] <= wall(a, uint64_t(lo[a]) + size);
+    if (inside) id |= kOnlyHere;
+  }
+  return leaves_.add(ids, input_.triangles);
 }
 
 // Sorts the node's triangles into its 8 children by padded box overlap with the children's
@@ -103,7 +113,7 @@ bool Octree::split(uint32_t /*node*/, int depth, const uint32_t lo[3],
   double mid[3];
   for (int a = 0; a < 3; ++a) mid[a] = wall(a, lo[a] + half);
   for (const uint32_t id : tris) {
-    const double* box = &tri_box_[size_t(id) * 6];
+    const double* box = input_.box(id);
     unsigned low = 0, high = 0;  // per axis bit: overlaps the lower / upper half
     for (int a = 0; a < 3; ++a) {
       low |= unsigned(box[a] <= mid[a]) << a;
@@ -120,7 +130,9 @@ bool Octree::split(uint32_t /*node*/, int depth, const uint32_t lo[3],
   }
   if (largest == tris.size() && refs >= kInseparableCopies * tris.size()) return false;
   const uint64_t planned = planned_refs_ + refs - tris.size();
-  const uint64_t bytes = (nodes_.size() + 8) * sizeof(Node) + planned * sizeof(uint32_t);
+  // Every node may become a leaf with its header: bytes_for(0) each, and each reference's.
+  const uint64_t bytes = (nodes_.size() + 8) * (sizeof(Node) + LeafStore::bytes_for(0)) +
+                         planned * (LeafStore::bytes_for(1) - LeafStore::bytes_for(0));
   if (bytes > memory_budget_ || planned >= UINT32_MAX) {
     ++over_budget_;
     return false;
@@ -132,13 +144,13 @@ bool Octree::split(uint32_t /*node*/, int depth, const uint32_t lo[3],
 // A wall of the finest level from its integer index: lo + extent * (i / 2^depth), the same
 // double for every level that names it (scaling by a power of two is exact).
 double Octree::wall(int axis, uint64_t fine_index) const {
-  return box_.lo[axis] + cell_extent_[axis] * (double(fine_index) * inv_fine_);
+  return input_.clip.lo[axis] + cell_extent_[axis] * (double(fine_index) * inv_fine_);
 }
 
 // The finest cell holding coordinate p, clamped into the box; off by one only within
 // rounding of a wall, which the triangles' padding covers.
 uint32_t Octree::fine_cell(int axis, double p) const {
-  const double cell = (p - box_.lo[axis]) * fine_scale_[axis];
+  const double cell = (p - input_.clip.lo[axis]) * fine_scale_[axis];
   return uint32_t(std::clamp(cell, 0.0, double(fine_ - 1)));
 }
 
@@ -182,8 +194,8 @@ template <bool AnyHit>
 Hit Octree::trace(const Ray& ray, MailboxContext& context) const {
   Hit best;
   double t_enter, t_leave, inv_dir[3];
-  if (!box_.clip(ray, t_enter, t_leave, inv_dir)) return best;
-  const double slack = walk_slack(ray, box_.magnitude);
+  if (!input_.clip.clip(ray, t_enter, t_leave, inv_dir)) return best;
+  const double slack = walk_slack(ray, input_.clip.magnitude, inv_dir);
   double origin[3], dir[3];
   int step[3];
   uint32_t fine[3];
@@ -192,16 +204,17 @@ Hit Octree::trace(const Ray& ray, MailboxContext& context) const {
     step[a] = step_of(ray.dir[a]);
     fine[a] = fine_cell(a, origin[a] + t_enter * dir[a]);
   }
-  const PreparedRay<KernelReal> prepared(ray, t_enter);
+  const PreparedRay<KernelReal> prepared(ray, t_enter, inv_dir);
   float tmax = ray.tmax;
-  const uint64_t ray_id = context.next_ray();
+  const uint64_t ray_id = context.mailbox.next_ray();
   uint64_t leaves = 0;
   for (;;) {
     const Located leaf = locate(fine);
     ++leaves;
     const Node& node = nodes_[leaf.node];
-    if (test_triangles<AnyHit>(refs_.data() + node.first, node.count, triangles_.data(), prepared,
-                               ray_id, tmax, best, context) &&
+    if (node.count > 0 &&
+        test_leaf<AnyHit>(leaves_.view(node.first), kernel_, prepared, ray_id, tmax, best,
+                          context.mailbox, context.counters) &&
         AnyHit)
       break;
     double t_exit = kInf;
@@ -230,12 +243,11 @@ Hit Octree::trace(const Ray& ray, MailboxContext& context) const {
 StructureStats Octree::stats() const {
   StructureStats s;
   s.nodes = nodes_.size();
-  s.leaves = leaves_;
+  s.leaves = leaf_count_;
   s.voxels_subdivided = internal_;
   s.traversal_states = std::nullopt;
   s.depth = uint64_t(depth_reached_);
-  s.memory_bytes = triangles_.size() * sizeof(TriangleVerts) + nodes_.size() * sizeof(Node) +
-                   refs_.size() * sizeof(uint32_t);
+  s.memory_bytes = nodes_.size() * sizeof(Node) + leaves_.bytes();
   s.build_seconds = build_seconds_;
   s.voxels_over_budget = over_budget_;
   return s;

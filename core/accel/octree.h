@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "core/accel/accelerator.h"
-#include "core/geometry/leaf_test.h"
-#include "core/geometry/kernel.h"
+#include "core/geometry/leaf.h"
+#include "core/geometry/triangles.h"
 
 namespace gs {
 
@@ -31,7 +31,7 @@ class Octree final : public Accelerator {
 
   std::string name() const override { return "octree"; }
   void build(const Scene& scene) override;
-  Box bounds() const override { return bounds_; }
+  Box bounds() const override { return input_.bounds; }
   std::unique_ptr<ThreadContext> make_context() const override;
   Hit intersect(const Ray& ray, ThreadContext& context) const override;
   Hit any_hit(const Ray& ray, ThreadContext& context) const override;
@@ -42,7 +42,8 @@ class Octree final : public Accelerator {
   StructureStats stats() const override;
 
   // A packed node: an internal node's 8 children are contiguous at `first` (octant bit 0 =
-  // upper x half, bit 1 = y, bit 2 = z); a leaf lists refs_[first .. first + count).
+  // upper x half, bit 1 = y, bit 2 = z); a leaf of count > 0 triangles has them in the leaf
+  // store at handle `first`.
   struct Node {
     uint32_t first;
     uint32_t count;  // kInternal for an internal node
@@ -53,7 +54,7 @@ class Octree final : public Accelerator {
   const std::vector<Node>& nodes() const { return nodes_; }
   int max_depth() const { return depth_; }
   int depth_reached() const { return depth_reached_; }
-  uint64_t references() const { return refs_.size(); }
+  uint64_t references() const { return references_; }
 
  private:
   struct Located {
@@ -68,26 +69,25 @@ class Octree final : public Accelerator {
   double wall(int axis, uint64_t fine_index) const;
   void set_cell_extents();
   void build_node(uint32_t node, int depth, const uint32_t lo[3], std::vector<uint32_t>& tris);
+  uint32_t make_leaf(int depth, const uint32_t lo[3], const std::vector<uint32_t>& tris);
   bool split(uint32_t node, int depth, const uint32_t lo[3], const std::vector<uint32_t>& tris,
              std::vector<uint32_t> (&children)[8]);
 
   int depth_;
   size_t leaf_size_;
   uint64_t memory_budget_;
-  std::vector<TriangleVerts> triangles_;
-  std::vector<double> tri_box_;  // per triangle lo.xyz, hi.xyz padded (build only)
-  Box bounds_;
-  ClipBox box_;            // the padded scene box every ray is clipped to; the root's low corner
+  Kernel kernel_;
+  BuildInput input_;  // its clip box: the box every ray is clipped to; the root's low corner
   uint32_t fine_ = 1;      // 2^depth_: finest cells per side
   double inv_fine_ = 1.0;  // 2^-depth_, exact
   double cell_extent_[3] = {};  // the root cell's extent (see set_cell_extents)
   double fine_scale_[3] = {};   // finest cells per unit length
   std::vector<Node> nodes_;
-  std::vector<uint32_t> refs_;
-  uint64_t planned_refs_ = 0;  // refs_ plus every list still being built (build only)
-  uint64_t leaves_ = 0, internal_ = 0, over_budget_ = 0;
+  LeafStore leaves_;
+  uint64_t references_ = 0;
+  uint64_t planned_refs_ = 0;  // references_ plus every list still being built (build only)
+  uint64_t leaf_count_ = 0, internal_ = 0, over_budget_ = 0;
   int depth_reached_ = 0;
-  size_t degenerate_ = 0;
   double build_seconds_ = 0.0;
 };
 

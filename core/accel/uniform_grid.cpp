@@ -15,26 +15,18 @@ constexpr uint64_t kMaxCells = uint64_t{1} << 26;
 
 }  // namespace
 
+UniformGrid::UniformGrid(const AccelParams& params)
+    : params_(params), kernel_(kernel_for(kernel_isa())) {}
+
 void UniformGrid::build(const Scene& scene) {
   const auto start = Clock::now();
-  triangles_ = gather_triangles(scene);
-  bounds_ = scene.bounds();
-  box_ = ClipBox(bounds_);
-  std::vector<uint32_t> usable;
-  degenerate_ = 0;
-  tri_box_ = box_.padded_boxes(triangles_);
-  for (uint32_t id = 0; id < triangles_.size(); ++id) {
-    if (scene.is_degenerate(id))
-      ++degenerate_;
-    else
-      usable.push_back(id);
-  }
-  choose_resolution(usable.size());
+  input_ = BuildInput(scene);
+  choose_resolution(input_.usable.size());
   const uint64_t wanted = cell_count();
-  fit_budget(usable);
+  fit_budget();
   cells_over_budget_ = wanted - cell_count();
-  sort_into_cells(usable, true);
-  tri_box_ = {};
+  fill_cells();
+  input_.release_triangles();
   build_seconds_ = seconds_since(start);
 }
 
@@ -43,14 +35,14 @@ void UniformGrid::build(const Scene& scene) {
 // scene gets one cell across its thin axis instead of cells thinner than its padding).
 void UniformGrid::choose_resolution(size_t triangles) {
   n_[0] = n_[1] = n_[2] = 1;
-  if (box_.empty || triangles == 0) return;
+  if (input_.clip.empty || triangles == 0) return;
   const double density = params_.density > 0.0 ? params_.density : 1.0;
   const double target = std::max(1.0, density * double(triangles));
   double extent[3];
   bool thin[3];
   for (int a = 0; a < 3; ++a) {
-    extent[a] = box_.hi[a] - box_.lo[a];
-    thin[a] = !(extent[a] > ClipBox::kMinCellPaddings * box_.padding);
+    extent[a] = input_.clip.hi[a] - input_.clip.lo[a];
+    thin[a] = !(extent[a] > ClipBox::kMinCellPaddings * input_.clip.padding);
   }
   double side = 0.0;
   for (bool changed = true; changed;) {
@@ -66,7 +58,7 @@ void UniformGrid::choose_resolution(size_t triangles) {
   }
   double cells = 1.0;
   for (int a = 0; a < 3; ++a) {
-    const double most = std::floor(extent[a] / (ClipBox::kMinCellPaddings * box_.padding));
+    const double most = std::floor(extent[a] / (ClipBox::kMinCellPaddings * input_.clip.padding));
     const double n = thin[a] ? 1.0 : std::clamp(std::round(extent[a] / side), 1.0, most);
     n_[a] = uint32_t(std::min(n, double(kMaxCells)));
     cells *= n_[a];
@@ -85,23 +77,29 @@ void UniformGrid::shrink_to(double cells) {
   for (uint32_t& n : n_) n = std::max<uint32_t>(1, uint32_t(n * shrink));
 }
 
-// What the grid's arrays take with `refs` references: offsets, references and walls.
-uint64_t UniformGrid::grid_bytes(uint64_t refs) const {
-  return sizeof(uint32_t) * (cell_count() + 1 + refs) +
-         sizeof(double) * (uint64_t(n_[0]) + n_[1] + n_[2] + 3);
+// What the grid's arrays take with `counts[c]` references in cell c: a leaf handle per
+// cell, a leaf per occupied cell, and the walls.
+uint64_t UniformGrid::grid_bytes(const std::vector<uint32_t>& counts) const {
+  uint64_t bytes = sizeof(uint32_t) * cell_count() +
+                   sizeof(double) * (uint64_t(n_[0]) + n_[1] + n_[2] + 3);
+  for (const uint32_t count : counts)
+    if (count > 0) bytes += LeafStore::bytes_for(count);
+  return bytes;
 }
 
 // The grid must fit the memory budget: fewer cells until its arrays do (thousands of
 // coincident or huge triangles make many references per cell), down to one cell, which is
 // built whatever the budget. Also keeps the references countable in 32 bits.
-void UniformGrid::fit_budget(const std::vector<uint32_t>& usable) {
-  if (grid_bytes(0) > params_.memory_budget)  // the empty cells alone do not fit
+void UniformGrid::fit_budget() {
+  if (grid_bytes({}) > params_.memory_budget)  // the empty cells alone do not fit
     shrink_to(double(params_.memory_budget) / (sizeof(uint32_t) + 3 * sizeof(double)));
   for (;;) {
     set_walls();
-    const uint64_t refs = sort_into_cells(usable, false);
+    const std::vector<uint32_t> counts = count_references();
+    uint64_t refs = 0;
+    for (const uint32_t count : counts) refs += count;
     const bool coarsest = n_[0] == 1 && n_[1] == 1 && n_[2] == 1;
-    if (coarsest || (grid_bytes(refs) <= params_.memory_budget && refs < UINT32_MAX)) return;
+    if (coarsest || (grid_bytes(counts) <= params_.memory_budget && refs < UINT32_MAX)) return;
     for (uint32_t& n : n_) n = std::max<uint32_t>(1, n / 2);
   }
 }
@@ -110,7 +108,7 @@ void UniformGrid::fit_budget(const std::vector<uint32_t>& usable) {
 // wall does not drift along a long walk, and build and walk see the same coordinates.
 void UniformGrid::set_walls() {
   for (int a = 0; a < 3; ++a) {
-    const double lo = box_.lo[a], extent = box_.hi[a] - box_.lo[a];
+    const double lo = input_.clip.lo[a], extent = input_.clip.hi[a] - input_.clip.lo[a];
     walls_[a].resize(n_[a] + 1);
     for (uint32_t i = 0; i <= n_[a]; ++i) walls_[a][i] = lo + extent * (double(i) / double(n_[a]));
     scale_[a] = extent > 0.0 ? double(n_[a]) / extent : 0.0;
@@ -121,7 +119,7 @@ void UniformGrid::set_walls() {
 // truncated: truncation is floor for what is left. Off by one only within rounding of a
 // wall, which the triangles' padding covers.
 uint32_t UniformGrid::locate(int axis, double p) const {
-  const double cell = (p - box_.lo[axis]) * scale_[axis];
+  const double cell = (p - input_.clip.lo[axis]) * scale_[axis];
   return uint32_t(std::clamp(cell, 0.0, double(n_[axis] - 1)));
 }
 
@@ -139,44 +137,47 @@ void UniformGrid::cell_range(int axis, double lo, double hi, uint32_t& first,
   while (last > first && w[last] > hi) --last;
 }
 
-// Without `fill`: the number of references. With it: the CSR layout, counted per cell,
-// summed to each cell's end, then filled backwards so that each cell lists ids ascending.
-uint64_t UniformGrid::sort_into_cells(const std::vector<uint32_t>& usable, bool fill) {
+// Calls visit(cell) for every cell triangle `id`'s padded box meets.
+template <class Visit>
+void UniformGrid::each_cell(uint32_t id, Visit&& visit) const {
   const uint64_t nx = n_[0], nxy = uint64_t(n_[0]) * n_[1];
-  if (fill) offsets_.assign(cell_count() + 1, 0);
-  uint64_t total = 0;
-  for (int pass = fill ? 0 : 2; pass < 3; ++pass) {  // count, fill; or sum only
-    if (pass == 1) {
-      for (uint64_t c = 1; c <= cell_count(); ++c) offsets_[c] += offsets_[c - 1];
-      tris_.resize(offsets_.back());
-    }
-    for (size_t k = 0; k < usable.size(); ++k) {
-      const uint32_t id = pass == 1 ? usable[usable.size() - 1 - k] : usable[k];
-      const double* box = &tri_box_[size_t(id) * 6];
-      uint32_t first[3], last[3];
-      for (int a = 0; a < 3; ++a) cell_range(a, box[a], box[a + 3], first[a], last[a]);
-      if (pass == 2) {
-        total +=
-            uint64_t(last[0] - first[0] + 1) * (last[1] - first[1] + 1) * (last[2] - first[2] + 1);
-        continue;
-      }
-      for (uint64_t z = first[2]; z <= last[2]; ++z)
-        for (uint64_t y = first[1]; y <= last[1]; ++y)
-          for (uint64_t x = first[0]; x <= last[0]; ++x) {
-            const uint64_t c = x + nx * y + nxy * z;
-            if (pass == 0)
-              ++offsets_[c + 1];
-            else
-              tris_[--offsets_[c + 1]] = id;
-          }
-    }
+  const double* box = input_.box(id);
+  uint32_t first[3], last[3];
+  for (int a = 0; a < 3; ++a) cell_range(a, box[a], box[a + 3], first[a], last[a]);
+  for (uint64_t z = first[2]; z <= last[2]; ++z)
+    for (uint64_t y = first[1]; y <= last[1]; ++y)
+      for (uint64_t x = first[0]; x <= last[0]; ++x) visit(x + nx * y + nxy * z);
+}
+
+std::vector<uint32_t> UniformGrid::count_references() const {
+  std::vector<uint32_t> counts(cell_count(), 0);
+  for (const uint32_t id : input_.usable) each_cell(id, [&](uint64_t c) { ++counts[c]; });
+  return counts;
+}
+
+// Each cell's triangles, ids ascending, stored as its leaf; a triangle met in one cell only
+// skips the mailbox there.
+void UniformGrid::fill_cells() {
+  const std::vector<uint32_t> counts = count_references();
+  std::vector<uint64_t> offsets(counts.size() + 1, 0);
+  for (size_t c = 0; c < counts.size(); ++c) offsets[c + 1] = offsets[c] + counts[c];
+  std::vector<uint32_t> flat(offsets.back());
+  std::vector<uint64_t> cursor(offsets.begin(), offsets.end() - 1);
+  for (const uint32_t id : input_.usable) {
+    uint64_t cells = 0;
+    each_cell(id, [&](uint64_t) { ++cells; });
+    const uint32_t entry = cells == 1 ? id | kOnlyHere : id;
+    each_cell(id, [&](uint64_t c) { flat[cursor[c]++] = entry; });
   }
-  if (fill) {  // offsets_[c + 1] now holds cell c's start: shift down one
-    std::rotate(offsets_.begin(), offsets_.begin() + 1, offsets_.end());
-    offsets_.back() = uint32_t(tris_.size());
-    total = tris_.size();
+  references_ = flat.size();
+  leaves_.reset(grid_bytes(counts));
+  cell_leaf_.assign(counts.size(), kEmptyCell);
+  std::vector<uint32_t> ids;
+  for (size_t c = 0; c < counts.size(); ++c) {
+    if (counts[c] == 0) continue;
+    ids.assign(flat.begin() + int64_t(offsets[c]), flat.begin() + int64_t(offsets[c + 1]));
+    cell_leaf_[c] = leaves_.add(ids, input_.triangles);
   }
-  return total;
 }
 
 std::unique_ptr<ThreadContext> UniformGrid::make_context() const {
@@ -198,8 +199,8 @@ template <bool AnyHit>
 Hit UniformGrid::trace(const Ray& ray, MailboxContext& context) const {
   Hit best;
   double t_enter, t_leave, inv_dir[3];
-  if (!box_.clip(ray, t_enter, t_leave, inv_dir)) return best;
-  const double slack = walk_slack(ray, box_.magnitude);
+  if (!input_.clip.clip(ray, t_enter, t_leave, inv_dir)) return best;
+  const double slack = walk_slack(ray, input_.clip.magnitude, inv_dir);
   const int64_t strides[3] = {1, int64_t(n_[0]), int64_t(n_[0]) * n_[1]};
   double origin[3], t_next[3];
   int step[3];
@@ -213,14 +214,15 @@ Hit UniformGrid::trace(const Ray& ray, MailboxContext& context) const {
     stride[a] = step[a] * strides[a];
     index += int64_t(cell[a]) * strides[a];
   }
-  const PreparedRay<KernelReal> prepared(ray, t_enter);
+  const PreparedRay<KernelReal> prepared(ray, t_enter, inv_dir);
   float tmax = ray.tmax;
-  const uint64_t ray_id = context.next_ray();
+  const uint64_t ray_id = context.mailbox.next_ray();
   uint64_t steps = 0;
   for (;;) {
-    const uint32_t begin = offsets_[index], count = offsets_[index + 1] - begin;
-    if (test_triangles<AnyHit>(tris_.data() + begin, count, triangles_.data(), prepared, ray_id,
-                               tmax, best, context) &&
+    const uint32_t leaf = cell_leaf_[index];
+    if (leaf != kEmptyCell &&
+        test_leaf<AnyHit>(leaves_.view(leaf), kernel_, prepared, ray_id, tmax, best,
+                          context.mailbox, context.counters) &&
         AnyHit)
       break;
     // Selects, not branches: which axis comes next is unpredictable.
@@ -247,8 +249,7 @@ StructureStats UniformGrid::stats() const {
   s.voxels_subdivided = 0;
   s.traversal_states = std::nullopt;
   s.depth = 0;  // one level of cells
-  s.memory_bytes = triangles_.size() * sizeof(TriangleVerts) +
-                   (offsets_.size() + tris_.size()) * sizeof(uint32_t) +
+  s.memory_bytes = cell_leaf_.size() * sizeof(uint32_t) + leaves_.bytes() +
                    (walls_[0].size() + walls_[1].size() + walls_[2].size()) * sizeof(double);
   s.build_seconds = build_seconds_;
   s.voxels_over_budget = cells_over_budget_;

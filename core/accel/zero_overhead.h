@@ -15,6 +15,7 @@
 
 #include "core/accel/accelerator.h"
 #include "core/geometry/kernel.h"
+#include "core/geometry/triangles.h"
 
 namespace gs {
 

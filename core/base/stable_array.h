@@ -17,16 +17,13 @@ namespace gs {
 template <class T>
 class StableArray {
  public:
-  explicit StableArray(size_t max_bytes) : capacity_(max_bytes / sizeof(T)) {
-    static_assert(std::is_trivially_destructible_v<T>);
-    if (capacity_ == 0) return;
-    void* p = ::mmap(nullptr, capacity_ * sizeof(T), PROT_READ | PROT_WRITE,
-                     MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
-    if (p == MAP_FAILED) throw std::bad_alloc();
-    data_ = static_cast<T*>(p);
-  }
-  ~StableArray() {
-    if (data_) ::munmap(data_, capacity_ * sizeof(T));
+  explicit StableArray(size_t max_bytes) { reserve(max_bytes); }
+  ~StableArray() { release(); }
+  // Drops every element and reserves `max_bytes` afresh. Only while no other thread reads
+  // the array (an eager build sizing its storage before filling it).
+  void reset(size_t max_bytes) {
+    release();
+    reserve(max_bytes);
   }
   StableArray(const StableArray&) = delete;
   StableArray& operator=(const StableArray&) = delete;
@@ -55,6 +52,21 @@ class StableArray {
   }
 
  private:
+  void reserve(size_t max_bytes) {
+    static_assert(std::is_trivially_destructible_v<T>);
+    capacity_ = max_bytes / sizeof(T);
+    if (capacity_ == 0) return;
+    void* p = ::mmap(nullptr, capacity_ * sizeof(T), PROT_READ | PROT_WRITE,
+                     MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+    if (p == MAP_FAILED) throw std::bad_alloc();
+    data_ = static_cast<T*>(p);
+  }
+  void release() {
+    if (data_) ::munmap(data_, capacity_ * sizeof(T));
+    data_ = nullptr, capacity_ = 0;
+    size_.store(0, std::memory_order_relaxed);
+  }
+
   T* data_ = nullptr;
   size_t capacity_ = 0;
   std::atomic<size_t> size_{0};

@@ -20,19 +20,11 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 #include <limits>
-#include <vector>
+#include <type_traits>
 
 #include "core/geometry/ray.h"
-#include "core/scene/scene.h"
 
 namespace gs {
-
-struct TriangleVerts {
-  glm::vec3 v0, v1, v2;
-};
-
-// Triangle corners in id order, the layout the kernel reads.
-std::vector<TriangleVerts> gather_triangles(const Scene& scene);
 
 template <class Real>
 struct WiderType;
@@ -52,82 +44,6 @@ struct WiderType<long double> {
 // The arithmetic of the kernel every structure uses.
 using KernelReal = double;
 
-// Clips [t0, t1] to the box lo..hi; false when nothing is left. A zero direction
-// component constrains only through the origin.
-bool clip_segment(const double origin[3], const double dir[3], const double lo[3],
-                  const double hi[3], double& t0, double& t1);
-
-// The box every structure (brute included) clips rays to before testing triangles: the
-// scene box padded by kPadding of the largest coordinate magnitude. With the ray's origin
-// moved to where it enters this box, the kernel's answers are off from exact geometry by a
-// few double ulps of the scene's coordinates; `padding` covers that (and the double
-// rounding of a walk's cell location for origins up to ~1e6 scene sizes away), so a hit the
-// kernel reports lies inside the box and inside every cell a structure sorted the
-// triangle into with that padding.
-struct ClipBox {
-  static constexpr double kPadding = 1e-9;
-  double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
-  double magnitude = 0.0;  // largest |coordinate| of the scene box
-  double padding = 0.0;    // kPadding * magnitude
-  bool empty = true;
-
-  // Cells narrower than this many float ulps of their own coordinates separate nothing,
-  // and neither do cells only a few paddings wide (DESIGN.md §1, degenerate input).
-  static constexpr double kMinCellUlps = 256.0;
-  static constexpr double kMinCellPaddings = 4.0;
-
-  ClipBox() = default;
-  explicit ClipBox(const Box& scene);
-  // The narrowest useful cell in the box lo..hi.
-  double min_cell_width(const double lo[3], const double hi[3]) const;
-  // Every triangle's box (lo.xyz, hi.xyz; 6 doubles each) padded by `padding`: sorting by
-  // them puts a triangle in every cell where the kernel could report it hit.
-  std::vector<double> padded_boxes(const std::vector<TriangleVerts>& triangles) const;
-  // The ray's [tmin, tmax] clipped to the box; false for a ray that misses it or is invalid.
-  // `inv_dir` receives 1 / dir per axis (infinite for a zero component), for the caller's
-  // walk.
-  bool clip(const Ray& ray, double& t0, double& t1, double inv_dir[3]) const {
-    if (empty || !ray_is_valid(ray)) return false;
-    const float* origin = &ray.origin.x;
-    const float* dir = &ray.dir.x;
-    t0 = ray.tmin, t1 = ray.tmax;
-    for (int a = 0; a < 3; ++a) {
-      inv_dir[a] = 1.0 / double(dir[a]);
-      if (dir[a] == 0.0f) {
-        if (origin[a] < lo[a] || origin[a] > hi[a]) return false;
-        continue;
-      }
-      const double inv = inv_dir[a];
-      double ta = (lo[a] - origin[a]) * inv, tb = (hi[a] - origin[a]) * inv;
-      if (ta > tb) std::swap(ta, tb);
-      t0 = std::max(t0, ta), t1 = std::min(t1, tb);
-    }
-    return t0 <= t1;
-  }
-  bool clip(const Ray& ray, double& t0, double& t1) const {
-    double inv_dir[3];
-    return clip(ray, t0, t1, inv_dir);
-  }
-};
-
-// How far past the nearest hit a structure's walk must look before it may stop. The
-// kernel's t is off from the exact crossing by a few double ulps of the distances involved
-// (1e-9 of them is ample), so a hit may be reported slightly before the wall it lies behind.
-inline double walk_slack(const Ray& ray, double scene_magnitude) {
-  double largest = scene_magnitude, longest = 0.0;
-  for (int a = 0; a < 3; ++a) {
-    largest = std::max(largest, std::fabs(double(ray.origin[a])));
-    longest = std::max(longest, std::fabs(double(ray.dir[a])));
-  }
-  return 1e-9 * largest / longest;
-}
-// A walk may stop once the current cell's (or node's) entry or exit lies beyond this: the
-// nearest hit's t (or tmax) is rounded to float, so a triangle hit at the same float t —
-// which wins if its id is lower — may cross the ray up to the next float beyond it.
-inline double stop_distance(float tmax, double slack) {
-  return double(std::nextafter(tmax, std::numeric_limits<float>::infinity())) + slack;
-}
-
 // The per-ray part of the test: axis permutation and shear (section 3 of the paper). The
 // origin is first moved along the ray to where it enters the clip box (`shift`), so that
 // the kernel's rounding is relative to the scene's size rather than to how far away the
@@ -141,7 +57,11 @@ struct PreparedRay {
   int kx, ky, kz;
   Real sx, sy, sz;
 
-  PreparedRay(const Ray& ray, double shift_to) : shift(Real(shift_to)), tmin(ray.tmin) {
+  PreparedRay(const Ray& ray, double shift_to) : PreparedRay(ray, shift_to, nullptr) {}
+  // With the ray's 1 / dir per axis (ClipBox::clip's), for double: the one division the
+  // set-up needs is then already done, with the same result.
+  PreparedRay(const Ray& ray, double shift_to, const double* inv_dir)
+      : shift(Real(shift_to)), tmin(ray.tmin) {
     const float* o = &ray.origin.x;
     const float* d = &ray.dir.x;
     for (int a = 0; a < 3; ++a) origin[a] = Real(double(o[a]) + shift_to * double(d[a]));
@@ -150,33 +70,31 @@ struct PreparedRay {
     kx = kz == 2 ? 0 : kz + 1;
     ky = kx == 2 ? 0 : kx + 1;
     if (d[kz] < 0.0f) std::swap(kx, ky);  // keep the winding
-    sz = Real(1) / Real(d[kz]);
+    sz = inv_dir && std::is_same_v<Real, double> ? Real(inv_dir[kz]) : Real(1) / Real(d[kz]);
     sx = Real(d[kx]) * sz;  // a product, not a quotient: one division per ray, not three
     sy = Real(d[ky]) * sz;
   }
 };
 
-// Tests one triangle. On a hit with tmin < t <= tmax (t as reported: rounded to float)
+// Tests one triangle whose corners' coordinates are c0[a * stride], c1[a * stride],
+// c2[a * stride] for axis a (stride 1 for a glm::vec3; a leaf's count for its
+// structure-of-arrays block, core/geometry/leaf.h). On a hit with tmin < t <= tmax (t as reported: rounded to float)
 // writes t and the barycentric weights of the second (u) and third (v) corner and returns
 // true.
 template <class Real>
 [[gnu::always_inline]] inline bool intersect_triangle(const PreparedRay<Real>& ray,
-                                                      const glm::vec3& p0, const glm::vec3& p1,
-                                                      const glm::vec3& p2, float tmax, float& t,
-                                                      float& u, float& v) {
-  // Raw component access: glm's operator[] is a switch, too slow for the inner loop.
-  const float* c0 = &p0.x;
-  const float* c1 = &p1.x;
-  const float* c2 = &p2.x;
+                                                      const float* c0, const float* c1,
+                                                      const float* c2, size_t stride, float tmax,
+                                                      float& t, float& u, float& v) {
   const Real* o = ray.origin;
   const int kx = ray.kx, ky = ray.ky, kz = ray.kz;
-  const Real az = Real(c0[kz]) - o[kz], bz = Real(c1[kz]) - o[kz], cz = Real(c2[kz]) - o[kz];
-  const Real ax = (Real(c0[kx]) - o[kx]) - ray.sx * az;
-  const Real ay = (Real(c0[ky]) - o[ky]) - ray.sy * az;
-  const Real bx = (Real(c1[kx]) - o[kx]) - ray.sx * bz;
-  const Real by = (Real(c1[ky]) - o[ky]) - ray.sy * bz;
-  const Real cx = (Real(c2[kx]) - o[kx]) - ray.sx * cz;
-  const Real cy = (Real(c2[ky]) - o[ky]) - ray.sy * cz;
+  const Real az = Real(c0[kz * stride]) - o[kz], bz = Real(c1[kz * stride]) - o[kz], cz = Real(c2[kz * stride]) - o[kz];
+  const Real ax = (Real(c0[kx * stride]) - o[kx]) - ray.sx * az;
+  const Real ay = (Real(c0[ky * stride]) - o[ky]) - ray.sy * az;
+  const Real bx = (Real(c1[kx * stride]) - o[kx]) - ray.sx * bz;
+  const Real by = (Real(c1[ky * stride]) - o[ky]) - ray.sy * bz;
+  const Real cx = (Real(c2[kx * stride]) - o[kx]) - ray.sx * cz;
+  const Real cy = (Real(c2[ky * stride]) - o[ky]) - ray.sy * cz;
   Real e0 = cx * by - cy * bx;  // weight of p0
   Real e1 = ax * cy - ay * cx;  // weight of p1
   Real e2 = bx * ay - by * ax;  // weight of p2
@@ -196,6 +114,14 @@ template <class Real>
   u = float(e1 / det);
   v = float(e2 / det);
   return true;
+}
+
+template <class Real>
+[[gnu::always_inline]] inline bool intersect_triangle(const PreparedRay<Real>& ray,
+                                                      const glm::vec3& p0, const glm::vec3& p1,
+                                                      const glm::vec3& p2, float tmax, float& t,
+                                                      float& u, float& v) {
+  return intersect_triangle(ray, &p0.x, &p1.x, &p2.x, 1, tmax, t, u, v);
 }
 
 // Keeps `best` the nearest hit, lowest id among equal t (DESIGN.md §3).

@@ -32,6 +32,9 @@ struct Hit {
 };
 static_assert(sizeof(Hit) == 16);
 
+// +1, -1, or 0 for a zero direction component (either sign of zero): the way a walk steps.
+inline int step_of(float d) { return d > 0.0f ? 1 : d < 0.0f ? -1 : 0; }
+
 // Rays with a NaN or infinite origin, a NaN, infinite or zero direction, or tmin > tmax
 // (or a NaN bound) are answered as misses by every structure.
 bool ray_is_valid(const Ray& ray);

@@ -4,6 +4,14 @@
 // rays the §6.5 sampling pass saw; voxels are cut only when a ray first walks into them
 // (§4, lazy); voxels cut along the same axis with the same absolute granularity share one
 // traversal state (§4, §5.2.2); ray-id mailboxing stops repeated tests (§6.4).
+//
+// Two kinds of records (docs/design.md §1.9): what the build and the inspector need about a
+// voxel (Voxel, Region: its triangles, place, sample), and what the walk reads (Node: one
+// per subdivided voxel, 32 bytes; a child reference per cell that carries the child's kind,
+// so that an empty or unbuilt cell costs no load; an occupancy mask per node, so that a run
+// of empty cells is crossed with one bit scan; each leaf's triangles stored once in the
+// kernel's structure-of-arrays form, core/geometry/leaf.h). Build and walk are in build.cpp
+// and walk.cpp.
 #pragma once
 #include <array>
 #include <atomic>
@@ -15,7 +23,8 @@
 #include "core/accel/grid1d/cost_model.h"
 #include "core/base/atomic.h"
 #include "core/base/stable_array.h"
-#include "core/geometry/kernel.h"
+#include "core/geometry/leaf.h"
+#include "core/geometry/triangles.h"
 
 namespace gs {
 
@@ -47,7 +56,7 @@ class Grid1D final : public Accelerator {
   void build(const Scene& scene) override;
   void sample(std::span<const Ray> sample_rays, double rays_in_run) override;
   void build_all() override;
-  Box bounds() const override { return bounds_; }
+  Box bounds() const override { return input_.bounds; }
   std::unique_ptr<ThreadContext> make_context() const override;
   Hit intersect(const Ray& ray, ThreadContext& context) const override;
   Hit any_hit(const Ray& ray, ThreadContext& context) const override;
@@ -69,36 +78,17 @@ class Grid1D final : public Accelerator {
     uint32_t axis;
   };
 
-  // A voxel. The status is the lazy build's publication flag: fields are written before
-  // a release store of kSplit or kLeaf and read after an acquire load. The triangle list
-  // (ids) is set when the voxel is created and never changes, so a voxel being cut can
-  // still be searched as a leaf; a finished leaf also gets its triangles packed.
+  // A voxel as the build and the inspector see it. The status is the lazy build's
+  // publication flag: fields are written before a release store of kSplit or kLeaf and read
+  // after an acquire load. The triangle list (tri_begin, tri_count) is set when the voxel
+  // is created and never changes, so a voxel being cut can still be searched as a leaf.
   struct Voxel {
     std::atomic<uint8_t> status;
     uint8_t axis;
     uint16_t granularity;  // g: cells of this voxel's 1D array
     uint32_t state;        // traversal state (axis, absolute granularity)
     uint32_t tri_begin, tri_count;
-    // Unions: one member or the other by status, keeping the voxel at 40 bytes.
-    union {
-      uint32_t first_child;   // kSplit: the g cells are voxels first_child .. + g - 1
-      uint32_t first_packed;  // kLeaf: its triangles at packed_[first_packed ..], or kNone
-    };
-    union {
-      uint32_t above[3];  // kSplit: nearest proper ancestor cut along each axis, or kNone
-      // An empty cell (a leaf from birth): how many cells from this one on are empty,
-      // going up [0] and down [1] its parent's array. The walk crosses them in one go.
-      uint32_t empty_run[2];
-    };
-    uint64_t first_cell;  // J0: index of cell 0 on the state's global grid
-  };
-  // A leaf's triangle as the kernel reads it, stored with the leaf's others so that a
-  // leaf's tests read one contiguous run of memory. A triangle that lies in this leaf only
-  // cannot have been tested by the ray before, so it skips the mailbox.
-  struct PackedTriangle {
-    TriangleVerts verts;
-    uint32_t id : 31;
-    uint32_t only_here : 1;
+    uint32_t first_child;  // kSplit: the g cells are voxels first_child .. + g - 1
   };
   enum Status : uint8_t { kUnexamined = 0, kBuilding, kLeaf, kSplit };
 
@@ -115,47 +105,54 @@ class Grid1D final : public Accelerator {
   // Rays that used each traversal state (counted once per ray, merged when a tracing
   // thread's context ends).
   uint64_t state_rays(uint32_t state) const;
+  // The kernel the walk tests leaves with (core/geometry/leaf.h).
+  Isa isa() const { return isa_; }
 
  private:
-  class Context;
   struct Region;
+  struct Node;
   struct Cut;
   struct SampleRay;
+  class Context;
   struct RayWalk;
   class WalkRecorder;
+  struct NullRecorder;
 
+  // Walk (walk.cpp).
   template <bool AnyHit, class Recorder>
   Hit trace(const Ray& ray, Context& context, Recorder& recorder) const;
   template <class Recorder>
-  uint32_t descend(uint32_t voxel, double t_cur, int entered_axis, RayWalk& walk, Context& context,
-                   uint8_t& status, Recorder& recorder) const;
-  uint8_t examine(uint32_t voxel, Context& context) const;
+  uint32_t descend(uint32_t node, double t_cur, int entered_axis, RayWalk& walk, Context& context,
+                   Recorder& recorder) const;
   template <class Recorder>
-  uint32_t cross_empty_run(uint32_t cell, int s, uint32_t state, RayWalk& walk, Context& context,
-                           Recorder& recorder) const;
-  uint32_t pack_leaf(uint32_t voxel) const;
+  void skip_empty(uint32_t node, uint32_t local, RayWalk& walk, Context& context,
+                  Recorder& recorder) const;
   template <bool AnyHit, class Recorder>
-  bool test_leaf(uint32_t voxel, uint8_t status, const PreparedRay<KernelReal>& prepared,
-                 uint64_t ray_id, float& tmax, Hit& best, Context& context,
-                 Recorder& recorder) const;
+  bool search_unbuilt(uint32_t voxel, RayWalk& walk, Context& context, Recorder& recorder) const;
+
+  // Lazy build (build.cpp).
+  uint32_t examine(uint32_t voxel, Context& context) const;
+  uint32_t make_leaf(uint32_t voxel) const;
   Cut plan_cut(uint32_t voxel) const;
   VoxelFigures figures_of(uint32_t voxel, const double lo[3], const double hi[3]) const;
   std::array<int, 3> granularity_limits(uint32_t voxel, const VoxelFigures& figures,
                                         const double lo[3], const double hi[3]) const;
   bool sort_into_cells(uint32_t voxel, int axis, int g, const double lo[3], const double hi[3],
                        Cut& cut) const;
-  bool commit_cut(uint32_t voxel, const Cut& cut) const;
+  uint32_t commit_cut(uint32_t voxel, const Cut& cut) const;
+  void link_children(uint32_t voxel, const Cut& cut, uint32_t first_child, uint32_t node) const;
   double estimated_rays(uint32_t voxel) const;
   uint32_t state_for(uint32_t axis, uint64_t granularity) const;
-
+  bool reserve_bytes(uint64_t bytes) const;
   // `first` (an append's result) unless the append failed: then a UsageError naming `what`.
   size_t fits_budget(size_t first, const char* what) const;
+  // The triangles of a voxel that is a leaf, with kOnlyHere where a triangle lies in it alone.
+  std::vector<uint32_t> leaf_ids(uint32_t voxel) const;
+
   AccelParams params_;
-  std::vector<TriangleVerts> triangles_;
-  std::vector<double> tri_box_;  // per triangle lo.xyz, hi.xyz, padded (see build)
-  Box bounds_;
-  ClipBox root_;  // the root voxel: the padded scene box every ray is clipped to
-  size_t degenerate_ = 0;
+  Isa isa_;
+  Kernel kernel_;
+  BuildInput input_;
   double build_seconds_ = 0.0;
 
   // The sampling pass (§6.5): sample rays, their segments clipped at hits once known.
@@ -166,18 +163,23 @@ class Grid1D final : public Accelerator {
   // Lazily grown storage: appended by whichever thread cuts a voxel, never moved.
   mutable std::mutex state_mutex_;  // guards state_ids_
   mutable StableArray<Voxel> voxels_;
-  mutable StableArray<Region> regions_;
+  mutable StableArray<Region> regions_;  // parallel to voxels_
   mutable StableArray<uint32_t> tri_indices_;
-  mutable StableArray<PackedTriangle> packed_;
   mutable StableArray<uint32_t> sample_indices_;
+  mutable StableArray<Node> nodes_;
+  mutable StableArray<uint32_t> node_voxels_;  // parallel to nodes_: the voxel each one is
+  // Per node: its occupancy words, then one child reference per cell (ChildRef, walk.cpp).
+  mutable StableArray<std::atomic<uint32_t>> refs_;
+  mutable LeafStore leaves_;
   mutable StableArray<StateInfo> states_;
   mutable StableArray<std::atomic<uint64_t>> state_rays_;  // parallel to states_
   mutable std::unordered_map<uint64_t, uint32_t> state_ids_;
+  // The root voxel's reference: where every walk starts.
+  mutable std::atomic<uint32_t> root_ref_{0};
   mutable std::atomic<uint64_t> subdivided_{0};
   mutable std::atomic<uint64_t> over_budget_{0};
   mutable std::atomic<uint64_t> deepest_{0};
   mutable std::atomic<uint64_t> bytes_used_{0};
-  bool reserve_bytes(uint64_t bytes) const;
 };
 
 }  // namespace gs

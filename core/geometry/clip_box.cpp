@@ -1,16 +1,9 @@
-#include "core/geometry/kernel.h"
+#include "core/geometry/clip_box.h"
 
 #include <algorithm>
 #include <cfloat>
 
 namespace gs {
-
-std::vector<TriangleVerts> gather_triangles(const Scene& scene) {
-  std::vector<TriangleVerts> out(scene.triangle_count());
-  for (uint32_t i = 0; i < out.size(); ++i)
-    out[i] = {scene.vertex(i, 0), scene.vertex(i, 1), scene.vertex(i, 2)};
-  return out;
-}
 
 bool clip_segment(const double origin[3], const double dir[3], const double lo[3],
                   const double hi[3], double& t0, double& t1) {
@@ -40,18 +33,6 @@ double ClipBox::min_cell_width(const double lo[3], const double hi[3]) const {
   for (int a = 0; a < 3; ++a)
     local_magnitude = std::max({local_magnitude, std::fabs(lo[a]), std::fabs(hi[a])});
   return std::max(kMinCellUlps * FLT_EPSILON * local_magnitude, kMinCellPaddings * padding);
-}
-
-std::vector<double> ClipBox::padded_boxes(const std::vector<TriangleVerts>& triangles) const {
-  std::vector<double> boxes(triangles.size() * 6);
-  for (size_t id = 0; id < triangles.size(); ++id) {
-    const TriangleVerts& t = triangles[id];
-    const glm::dvec3 lo = glm::dvec3(glm::min(t.v0, glm::min(t.v1, t.v2))) - padding;
-    const glm::dvec3 hi = glm::dvec3(glm::max(t.v0, glm::max(t.v1, t.v2))) + padding;
-    std::copy(&lo.x, &lo.x + 3, &boxes[id * 6]);
-    std::copy(&hi.x, &hi.x + 3, &boxes[id * 6 + 3]);
-  }
-  return boxes;
 }
 
 bool ray_is_valid(const Ray& ray) {

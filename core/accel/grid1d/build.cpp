@@ -1,0 +1,514 @@
+// The 1D grid's build: the root voxel, the §6.5 sampling pass, and the lazy cut of one voxel
+// (§6: the cost function chooses the axis and g; the cells become voxels and the voxel gets
+// its walk node), published to walking threads with release stores (docs/design.md §5).
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "core/accel/grid1d/cost_model.h"
+#include "core/accel/grid1d/records.h"
+#include "core/base/error.h"
+#include "core/base/timing.h"
+
+namespace gs {
+namespace {
+
+// Absolute granularities stay exact integers in double (wall = x0 + E * (I / G)).
+constexpr uint64_t kMaxAbsoluteGranularity = uint64_t{1} << 50;
+// Depth cap when --max-depth is not given: far deeper than the cost function goes on real
+// scenes; it bounds degenerate input.
+constexpr int kDefaultMaxDepth = 32;
+
+// A wall of the global grid (origin, extent, granularity). Computed from the integer index
+// so that one physical wall has bit-identical coordinates at every level: I / G is the
+// correctly rounded quotient, the same for every (I, G) naming the same fraction.
+double grid_wall(double origin, double extent, uint64_t index, uint64_t granularity) {
+  return origin + extent * (double(index) / double(granularity));
+}
+
+double surface_area(const double extent[3]) {
+  return 2.0 * (extent[0] * extent[1] + extent[1] * extent[2] + extent[2] * extent[0]);
+}
+
+// Which cell of a cut a coordinate falls in, clamped to the voxel's own cells.
+struct CellLocator {
+  double origin, scale, first_cell, last_local;
+  int64_t operator()(double x) const {
+    return int64_t(std::clamp(std::floor((x - origin) * scale) - first_cell, 0.0, last_local));
+  }
+};
+
+// Spreads items over g cells given each item's first and last cell: offsets (g + 1) and a
+// flat list, items in their original order within each cell.
+void fill_cells(const std::vector<std::pair<int64_t, int64_t>>& ranges,
+                const std::vector<uint32_t>& items, int g, std::vector<uint32_t>& offsets,
+                std::vector<uint32_t>& flat) {
+  offsets.assign(size_t(g) + 1, 0);
+  for (const auto& [c0, c1] : ranges)
+    for (int64_t c = c0; c <= c1; ++c) ++offsets[size_t(c) + 1];
+  for (int c = 0; c < g; ++c) offsets[c + 1] += offsets[c];
+  flat.resize(offsets[g]);
+  std::vector<uint32_t> cursor(offsets.begin(), offsets.end() - 1);
+  for (size_t i = 0; i < items.size(); ++i)
+    for (int64_t c = ranges[i].first; c <= ranges[i].second; ++c) flat[cursor[c]++] = items[i];
+}
+
+}  // namespace
+
+Grid1D::Grid1D(const AccelParams& params)
+    : params_(params),
+      isa_(kernel_isa()),
+      kernel_(kernel_for(isa_)),
+      voxels_(params.memory_budget),
+      regions_(params.memory_budget),
+      tri_indices_(params.memory_budget),
+      sample_indices_(params.memory_budget),
+      nodes_(params.memory_budget),
+      node_voxels_(params.memory_budget),
+      refs_(params.memory_budget),
+      leaves_(params.memory_budget),
+      states_(std::min<uint64_t>(params.memory_budget, uint64_t{64} << 20)),
+      state_rays_(std::min<uint64_t>(params.memory_budget, uint64_t{64} << 20)) {
+  static_assert(sizeof(Node) == 32, "two walk nodes to a cache line");
+}
+
+Grid1D::~Grid1D() = default;
+
+uint32_t Grid1D::voxel_depth(uint32_t id) const { return regions_[id].depth; }
+
+uint64_t Grid1D::state_rays(uint32_t state) const {
+  return state_rays_[state].load(std::memory_order_relaxed);
+}
+
+void Grid1D::voxel_box(uint32_t id, double lo[3], double hi[3]) const {
+  const Region& region = regions_[id];
+  const ClipBox& root = input_.clip;
+  for (int a = 0; a < 3; ++a) {
+    const double origin = root.lo[a], extent = root.hi[a] - root.lo[a];
+    lo[a] = grid_wall(origin, extent, region.cell[a], region.grid[a]);
+    hi[a] = grid_wall(origin, extent, region.cell[a] + 1, region.grid[a]);
+  }
+}
+
+// The root voxel's records and triangle list (and the sample's index list) are the least the
+// structure can be: a budget that cannot hold them is a usage error, not a silent leaf.
+size_t Grid1D::fits_budget(size_t first, const char* what) const {
+  if (first == SIZE_MAX)
+    throw UsageError("--memory-budget " + std::to_string(params_.memory_budget) +
+                     " bytes cannot hold grid1d's root voxel (" + what + ")");
+  return first;
+}
+
+void Grid1D::build(const Scene& scene) {
+  const auto start = Clock::now();
+  input_ = BuildInput(scene);
+  for (uint32_t a = 0; a < 3; ++a) state_for(a, 1);  // states 0, 1, 2: the box on each axis
+  const auto root = uint32_t(fits_budget(voxels_.append(1), "its record"));
+  if (!regions_.construct(root, 1)) fits_budget(SIZE_MAX, "its region");
+  Voxel& voxel = voxels_[root];
+  const std::vector<uint32_t>& usable = input_.usable;
+  voxel.tri_begin = uint32_t(fits_budget(tri_indices_.append(usable.size()), "its triangle list"));
+  voxel.tri_count = uint32_t(usable.size());
+  std::copy(usable.begin(), usable.end(), &tri_indices_[voxel.tri_begin]);
+  Region& region = regions_[root];
+  for (int a = 0; a < 3; ++a) region.cell[a] = 0, region.grid[a] = 1, region.above[a] = kNone;
+  region.ref = kNone;
+  region.area_rays = kInf;  // no sampling pass: assume plenty of rays
+  const bool empty = usable.empty() || input_.clip.empty;
+  if (empty) voxel.status.store(kLeaf, std::memory_order_relaxed);
+  root_ref_ = child_ref::make(empty ? child_ref::kEmpty : child_ref::kUnbuilt, root);
+  bytes_used_ = sizeof(Voxel) + sizeof(Region) + usable.size() * sizeof(uint32_t);
+  build_seconds_ = seconds_since(start);
+}
+
+void Grid1D::sample(std::span<const Ray> sample_rays, double rays_in_run) {
+  if (voxels_[0].status.load() != kUnexamined && voxels_[0].tri_count > 0)
+    throw std::logic_error("Grid1D::sample must come before any tracing or build_all");
+  const auto start = Clock::now();
+  for (const Ray& ray : sample_rays) {
+    SampleRay s{};
+    s.ray = ray;
+    if (!input_.clip.clip(ray, s.t0, s.t1)) continue;
+    for (int a = 0; a < 3; ++a) s.origin[a] = ray.origin[a], s.dir[a] = ray.dir[a];
+    sample_.push_back(s);
+  }
+  sampled_ = true;
+  rays_per_sample_ = sample_rays.empty() ? 0.0 : rays_in_run / double(sample_rays.size());
+  Region& root = regions_[0];
+  root.area_rays = rays_in_run;  // used only if no sample segment crosses the box
+  root.sample_count = uint32_t(sample_.size());
+  root.sample_begin =
+      uint32_t(fits_budget(sample_indices_.append(sample_.size()), "the sampling pass's rays"));
+  for (uint32_t j = 0; j < sample_.size(); ++j) sample_indices_[root.sample_begin + j] = j;
+  bytes_used_ += sample_.size() * sizeof(uint32_t);
+
+  // The breadth of the paper's pass is the sample; its order is fixed (ray order, one
+  // thread), so every cut it makes is a function of the sample alone.
+  Context context(*this);
+  for (SampleRay& s : sample_) {
+    const Hit hit = intersect(s.ray, context);
+    if (hit.found()) s.t1 = std::min(s.t1, double(hit.t));
+  }
+  build_seconds_ += seconds_since(start);
+}
+
+void Grid1D::build_all() {
+  const auto start = Clock::now();
+  Context context(*this);
+  std::vector<uint32_t> stack{0};
+  while (!stack.empty()) {
+    const uint32_t id = stack.back();
+    stack.pop_back();
+    examine(id, context);
+    if (voxels_[id].status.load(std::memory_order_acquire) != kSplit) continue;
+    const Voxel& voxel = voxels_[id];
+    for (uint32_t i = 0; i < voxel.granularity; ++i) stack.push_back(voxel.first_child + i);
+  }
+  build_seconds_ += seconds_since(start);
+}
+
+std::unique_ptr<ThreadContext> Grid1D::make_context() const {
+  return std::make_unique<Context>(*this);
+}
+
+// The lazy build of one voxel: the thread that wins the status CAS cuts it (or makes it a
+// leaf) and publishes the voxel's child reference, then its status, with release stores.
+// Returns the reference the caller continues with: the published one, or kUnbuilt (search
+// the voxel through its id list) while another thread is still cutting it or when the
+// memory budget left a leaf without its leaf block.
+uint32_t Grid1D::examine(uint32_t id, Context& context) const {
+  Voxel& voxel = voxels_[id];
+  const Region& region = regions_[id];
+  std::atomic<uint32_t>& slot = region.ref == kNone ? root_ref_ : refs_[region.ref];
+  uint8_t expected = kUnexamined;
+  if (!voxel.status.compare_exchange_strong(expected, kBuilding, std::memory_order_acquire))
+    return expected == kBuilding ? child_ref::make(child_ref::kUnbuilt, id)
+                                 : slot.load(std::memory_order_acquire);
+  const auto start = Clock::now();
+  const Cut cut = plan_cut(id);
+  uint32_t ref = cut.granularity >= 2 ? commit_cut(id, cut) : kNone;
+  const bool split = ref != kNone;
+  if (!split) ref = make_leaf(id);
+  slot.store(ref, std::memory_order_release);
+  voxel.status.store(split ? kSplit : kLeaf, std::memory_order_release);
+  ++context.counters.voxels_built;
+  context.counters.lazy_build_seconds += seconds_since(start);
+  return ref;
+}
+
+std::vector<uint32_t> Grid1D::leaf_ids(uint32_t id) const {
+  const Voxel& voxel = voxels_[id];
+  double lo[3], hi[3];
+  voxel_box(id, lo, hi);
+  std::vector<uint32_t> ids(voxel.tri_count);
+  for (uint32_t i = 0; i < voxel.tri_count; ++i) {
+    const uint32_t tri = tri_indices_[voxel.tri_begin + i];
+    const double* box = input_.box(tri);
+    bool inside = true;
+    for (int a = 0; a < 3; ++a) inside &= box[a] >= lo[a] && box[a + 3] <= hi[a];
+    ids[i] = inside ? tri | kOnlyHere : tri;
+  }
+  return ids;
+}
+
+// A finished leaf's triangles stored once in the kernel's form; the kUnbuilt reference
+// (search through the id list) when the memory budget is spent.
+uint32_t Grid1D::make_leaf(uint32_t id) const {
+  const uint32_t count = voxels_[id].tri_count;
+  const uint32_t unbuilt = child_ref::make(child_ref::kUnbuilt, id);
+  if (!reserve_bytes(LeafStore::bytes_for(count))) return unbuilt;
+  const uint32_t handle = leaves_.add(leaf_ids(id), input_.triangles);
+  if (handle == LeafStore::kFull || handle > child_ref::kMaxPayload) return unbuilt;
+  return child_ref::make(child_ref::kLeaf, handle);
+}
+
+// Rays of the run crossing the voxel: the sample's segments that cross it, scaled to the
+// run; a voxel no segment crosses gets the area estimate from its parent (§6.5).
+double Grid1D::estimated_rays(uint32_t id) const {
+  const Region& region = regions_[id];
+  if (!sampled_) return region.area_rays;
+  double lo[3], hi[3];
+  voxel_box(id, lo, hi);
+  uint32_t crossing = 0;
+  for (uint32_t i = 0; i < region.sample_count; ++i) {
+    const SampleRay& s = sample_[sample_indices_[region.sample_begin + i]];
+    double t0 = s.t0, t1 = s.t1;
+    crossing += clip_segment(s.origin, s.dir, lo, hi, t0, t1);
+  }
+  return crossing > 0 ? crossing * rays_per_sample_ : region.area_rays;
+}
+
+// N, extents, mean triangle sizes (each clipped to the voxel, §6.3) and estimated rays.
+VoxelFigures Grid1D::figures_of(uint32_t id, const double lo[3], const double hi[3]) const {
+  const Voxel& voxel = voxels_[id];
+  VoxelFigures figures;
+  figures.triangles = voxel.tri_count;
+  for (int a = 0; a < 3; ++a) figures.extent[a] = hi[a] - lo[a];
+  for (uint32_t i = 0; i < voxel.tri_count; ++i) {
+    const double* box = input_.box(tri_indices_[voxel.tri_begin + i]);
+    for (int a = 0; a < 3; ++a)
+      figures.mean_size[a] += std::max(0.0, std::min(box[a + 3], hi[a]) - std::max(box[a], lo[a]));
+  }
+  if (voxel.tri_count > 0)
+    for (double& size : figures.mean_size) size /= voxel.tri_count;
+  figures.rays = estimated_rays(id);
+  return figures;
+}
+
+// The most cells each axis may take: max granularity, the minimum cell width, and the
+// absolute granularity cap; 0 for an axis that cannot be cut.
+std::array<int, 3> Grid1D::granularity_limits(uint32_t id, const VoxelFigures& figures,
+                                              const double lo[3], const double hi[3]) const {
+  const Region& region = regions_[id];
+  const double min_width = input_.clip.min_cell_width(lo, hi);
+  std::array<int, 3> limits{};
+  for (int a = 0; a < 3; ++a) {
+    const double thin_limit = min_width > 0.0 ? figures.extent[a] / min_width : 0.0;
+    const double max_g = std::min({double(params_.max_granularity), std::floor(thin_limit),
+                                   double(kMaxAbsoluteGranularity / region.grid[a])});
+    limits[a] = max_g < 2.0 ? 0 : int(max_g);
+  }
+  return limits;
+}
+
+// The §6 decision for one voxel, a pure function of the voxel, the sample and the
+// parameters (never of which ray arrived first), so lazy, eager and any number of threads
+// build the same structure. Candidate axes: the paper's alternation by depth, or all axes
+// by cost (the paper's future work, comparing with the along-axis term added back). An
+// axis that cannot be cut (too thin) or whose cut separates nothing (every cell would keep
+// all the voxel's triangles: coincident or spanning triangles) gives way to the next
+// candidate. A cut that leaves all triangles in one cell and the others empty is kept: it
+// is how a small cluster in large extents ("teapot in a stadium") gets isolated, and the
+// depth cap and the minimum cell width bound it on degenerate input.
+Grid1D::Cut Grid1D::plan_cut(uint32_t id) const {
+  Cut cut;
+  const Voxel& voxel = voxels_[id];
+  const Region& region = regions_[id];
+  if (voxel.tri_count < 2 || region.depth >= uint32_t(params_.depth_or(kDefaultMaxDepth)))
+    return cut;
+  double lo[3], hi[3];
+  voxel_box(id, lo, hi);
+  const VoxelFigures figures = figures_of(id, lo, hi);
+  cut.rays = figures.rays;
+  const std::array<int, 3> limits = granularity_limits(id, figures, lo, hi);
+  std::vector<AxisPlan> plans;
+  for (int k = 0; k < 3; ++k) {
+    const int a = (int(region.depth) + k) % 3;
+    if (limits[a] == 0) continue;
+    const AxisPlan plan = plan_axis(params_, figures, a, limits[a]);
+    if (params_.axis == AxisRule::alternate && plans.empty() && plan.granularity < 2) return cut;
+    if (plan.granularity >= 2) plans.push_back(plan);
+  }
+  if (params_.axis == AxisRule::cost) {
+    const auto whole = [&](const AxisPlan& p) {
+      return p.cut_total + figures.rays * along_axis_cost(params_, figures, p.axis);
+    };
+    std::stable_sort(plans.begin(), plans.end(),
+                     [&](const AxisPlan& x, const AxisPlan& y) { return whole(x) < whole(y); });
+  }
+  for (const AxisPlan& plan : plans)
+    if (sort_into_cells(id, plan.axis, plan.granularity, lo, hi, cut)) return cut;
+  return Cut{};
+}
+
+VoxelCostReport Grid1D::cost_report(uint32_t id) const {
+  VoxelCostReport report;
+  report.voxel = id;
+  report.depth = regions_[id].depth;
+  const Voxel& voxel = voxels_[id];
+  if (voxel.status.load(std::memory_order_acquire) == kSplit)
+    report.axis = voxel.axis, report.granularity = voxel.granularity;
+  double lo[3], hi[3];
+  voxel_box(id, lo, hi);
+  report.figures = figures_of(id, lo, hi);
+  report.subdivision_cost = params_.subcost * report.figures.triangles;
+  const std::array<int, 3> limits = granularity_limits(id, report.figures, lo, hi);
+  for (int a = 0; a < 3; ++a) {
+    if (limits[a] == 0) continue;
+    report.plans.push_back(plan_axis(params_, report.figures, a, limits[a]));
+    for (int g = 2; g <= limits[a]; ++g)
+      report.alternatives.push_back({a, g, cut_cost(params_, report.figures, a, g)});
+  }
+  return report;
+}
+
+bool Grid1D::sort_into_cells(uint32_t id, int axis, int g, const double lo[3], const double hi[3],
+                             Cut& cut) const {
+  const Voxel& voxel = voxels_[id];
+  const Region& region = regions_[id];
+  const StateInfo& grid = states_[axis];  // the scene box on this axis
+  const uint64_t granularity = region.grid[axis] * uint64_t(g);
+  const CellLocator locate{grid.origin, double(granularity) / grid.extent,
+                           double(region.cell[axis] * uint64_t(g)), double(g - 1)};
+
+  std::vector<uint32_t> items(&tri_indices_[voxel.tri_begin],
+                              &tri_indices_[voxel.tri_begin] + voxel.tri_count);
+  std::vector<std::pair<int64_t, int64_t>> ranges(items.size());
+  bool separates = false;
+  for (size_t i = 0; i < items.size(); ++i) {
+    const double* box = input_.box(items[i]);
+    ranges[i] = {locate(std::max(box[axis], lo[axis])), locate(std::min(box[axis + 3], hi[axis]))};
+    separates |= ranges[i].first > 0 || ranges[i].second < g - 1;
+  }
+  if (!separates) return false;
+  cut.axis = axis;
+  cut.granularity = g;
+  fill_cells(ranges, items, g, cut.tri_offsets, cut.tris);
+
+  items.assign(&sample_indices_[region.sample_begin],
+               &sample_indices_[region.sample_begin] + region.sample_count);
+  ranges.clear();
+  std::vector<uint32_t> crossing;
+  for (const uint32_t j : items) {
+    const SampleRay& s = sample_[j];
+    double t0 = s.t0, t1 = s.t1;
+    if (!clip_segment(s.origin, s.dir, lo, hi, t0, t1)) continue;
+    const int64_t c0 = locate(s.origin[axis] + t0 * s.dir[axis]);
+    const int64_t c1 = locate(s.origin[axis] + t1 * s.dir[axis]);
+    ranges.emplace_back(std::min(c0, c1), std::max(c0, c1));
+    crossing.push_back(j);
+  }
+  fill_cells(ranges, crossing, g, cut.sample_offsets, cut.samples);
+  return true;
+}
+
+// Counts `bytes` against the memory budget; false (and nothing counted) when they do not
+// fit. Under a tight budget which voxels get cut depends on which thread comes first; the
+// answers do not.
+bool Grid1D::reserve_bytes(uint64_t bytes) const {
+  uint64_t used = bytes_used_.load(std::memory_order_relaxed);
+  do {
+    if (used + bytes > params_.memory_budget) return false;
+  } while (!bytes_used_.compare_exchange_weak(used, used + bytes, std::memory_order_relaxed));
+  return true;
+}
+
+uint32_t Grid1D::state_for(uint32_t axis, uint64_t granularity) const {
+  std::lock_guard lock(state_mutex_);
+  const uint64_t key = granularity << 2 | axis;
+  const auto found = state_ids_.find(key);
+  if (found != state_ids_.end()) return found->second;
+  const auto id = uint32_t(fits_budget(states_.append(1), "its traversal states"));
+  if (!state_rays_.construct(id, 1)) fits_budget(SIZE_MAX, "its traversal states");
+  const double extent = input_.clip.hi[axis] - input_.clip.lo[axis];
+  states_[id] = {input_.clip.lo[axis], extent, double(granularity) / extent,
+                 extent / double(granularity), granularity, axis};
+  state_ids_.emplace(key, id);
+  return id;
+}
+
+// Publishes the cut's cells as new voxels and the voxel's walk node with its occupancy
+// words and child references; returns the node's reference, or kNone (the voxel stays a
+// leaf) when they do not fit the memory budget. The caller's release stores make all of it
+// visible to the threads that then walk into the voxel.
+uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
+  const auto g = uint32_t(cut.granularity);
+  const uint32_t words = occupancy_words(g);
+  const uint64_t bytes = g * (sizeof(Voxel) + sizeof(Region)) + sizeof(Node) +
+                         sizeof(uint32_t) * (1 + words + g + cut.tris.size() + cut.samples.size());
+  if (voxels_.size() + g >= size_t(child_ref::kMaxPayload) || !reserve_bytes(bytes)) {
+    ++over_budget_;
+    return kNone;
+  }
+  // Each array holds at most the budget, which reserve_bytes has checked: these appends
+  // fail only if one array alone outgrows it, and then the voxel stays a leaf.
+  const size_t first_voxel = voxels_.append(g);
+  const size_t node = nodes_.append(1);
+  const size_t refs = refs_.append(words + g);
+  const size_t tri_base = tri_indices_.append(cut.tris.size());
+  const size_t sample_base = sample_indices_.append(cut.samples.size());
+  if (first_voxel == SIZE_MAX || node == SIZE_MAX || node >= child_ref::kMaxPayload ||
+      refs == SIZE_MAX || tri_base == SIZE_MAX || sample_base == SIZE_MAX ||
+      !regions_.construct(first_voxel, g) || !node_voxels_.construct(node, 1)) {
+    ++over_budget_;
+    return kNone;
+  }
+  std::copy(cut.tris.begin(), cut.tris.end(), &tri_indices_[tri_base]);
+  std::copy(cut.samples.begin(), cut.samples.end(), &sample_indices_[sample_base]);
+  Region& region = regions_[id];
+  const int axis = cut.axis;
+  const uint32_t state = state_for(uint32_t(axis), region.grid[axis] * g);
+  Node& record = nodes_[node];
+  record.first_cell = int64_t(region.cell[axis] * g);
+  record.state = state;
+  std::copy(region.above, region.above + 3, record.above);
+  record.children = uint32_t(refs + words);
+  record.granularity = uint16_t(g);
+  record.axis = uint8_t(axis);
+  node_voxels_[node] = id;
+
+  Voxel& voxel = voxels_[id];
+  voxel.axis = uint8_t(axis);
+  voxel.granularity = uint16_t(g);
+  voxel.state = state;
+  voxel.first_child = uint32_t(first_voxel);
+  link_children(id, cut, uint32_t(first_voxel), uint32_t(node));
+  for (size_t i = 0; i < g; ++i) {
+    Voxel& child = voxels_[first_voxel + i];
+    child.tri_begin = uint32_t(tri_base + cut.tri_offsets[i]);
+    Region& child_region = regions_[first_voxel + i];
+    child_region.sample_begin = uint32_t(sample_base + cut.sample_offsets[i]);
+    child_region.sample_count = cut.sample_offsets[i + 1] - cut.sample_offsets[i];
+  }
+  ++subdivided_;
+  raise_to(deepest_, region.depth + 1);
+  return child_ref::make(child_ref::kNode, uint32_t(node));
+}
+
+// The cells' records: place, triangle counts, area estimate (§6.5), their references (empty
+// cells are leaves from birth: nothing to cut, ever) and the node's occupancy words.
+void Grid1D::link_children(uint32_t id, const Cut& cut, uint32_t first_child,
+                           uint32_t node) const {
+  const Region& parent = regions_[id];
+  const int axis = cut.axis;
+  const auto g = uint32_t(cut.granularity);
+  double lo[3], hi[3], parent_extent[3], child_extent[3];
+  voxel_box(id, lo, hi);
+  for (int a = 0; a < 3; ++a) parent_extent[a] = child_extent[a] = hi[a] - lo[a];
+  child_extent[axis] /= double(g);
+  const double parent_area = surface_area(parent_extent);
+  const double area_share = parent_area > 0.0 ? surface_area(child_extent) / parent_area : 1.0;
+  const uint32_t children = nodes_[node].children;
+  for (uint32_t w = 0; w < occupancy_words(g); ++w)
+    refs_[children - occupancy_words(g) + w].store(0, std::memory_order_relaxed);
+  for (uint32_t i = 0; i < g; ++i) {
+    const uint32_t child = first_child + i;
+    Voxel& voxel = voxels_[child];
+    voxel.tri_count = cut.tri_offsets[i + 1] - cut.tri_offsets[i];
+    Region& region = regions_[child];
+    region = parent;
+    region.cell[axis] = parent.cell[axis] * g + i;
+    region.grid[axis] = parent.grid[axis] * g;
+    region.above[axis] = node;
+    region.depth = parent.depth + 1;
+    region.ref = children + i;
+    region.area_rays = cut.rays * area_share;
+    const bool empty = voxel.tri_count == 0;
+    if (empty) voxel.status.store(kLeaf, std::memory_order_relaxed);
+    refs_[children + i].store(
+        child_ref::make(empty ? child_ref::kEmpty : child_ref::kUnbuilt, child),
+        std::memory_order_relaxed);
+    if (!empty)
+      refs_[children - occupancy_words(g) + i / 32].fetch_or(1u << (i % 32),
+                                                              std::memory_order_relaxed);
+  }
+}
+
+StructureStats Grid1D::stats() const {
+  StructureStats s;
+  s.nodes = voxels_.size();
+  s.voxels_subdivided = subdivided_.load();
+  s.leaves = voxels_.size() - subdivided_.load();
+  s.traversal_states = states_.size();
+  s.depth = deepest_.load();
+  s.memory_bytes = bytes_used_ + input_.triangles.size() * sizeof(TriangleVerts) +
+                   input_.boxes.size() * sizeof(double) + sample_.size() * sizeof(SampleRay) +
+                   states_.size() * sizeof(StateInfo);
+  s.build_seconds = build_seconds_;
+  s.voxels_over_budget = over_budget_.load();
+  return s;
+}
+
+}  // namespace gs

@@ -1,0 +1,136 @@
+// The 1D grid's records, shared by its build (build.cpp) and its walk (walk.cpp); nothing
+// outside the grid includes this file.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "core/accel/grid1d/grid1d.h"
+
+namespace gs {
+
+// Where a voxel is and what the build knows about it. Cold data: read only when the voxel
+// is examined, by the inspector and by the walk recorder. Immutable once its parent is
+// published.
+struct Grid1D::Region {
+  uint64_t cell[3];   // the voxel's slab on each axis's grid...
+  uint64_t grid[3];   // ... of this granularity (1: the scene box)
+  uint32_t above[3];  // node of the nearest ancestor cut along each axis (kNone: the scene box)
+  uint32_t depth;
+  uint32_t ref;                         // where its child reference is (kNone: the root's)
+  uint32_t sample_begin, sample_count;  // sample rays whose segments cross the voxel
+  double area_rays;                     // rays estimated from the parent by surface area (§6.5)
+};
+
+// What the walk reads of a subdivided voxel (§5): 32 bytes, two to a cache line.
+struct alignas(32) Grid1D::Node {
+  int64_t first_cell;  // J0: index of cell 0 on the state's global grid
+  uint32_t state;      // traversal state (axis, absolute granularity)
+  uint32_t above[3];   // nearest ancestor node cut along each axis, or kNone (the box)
+  uint32_t children;   // refs_ index of cell 0's reference; occupancy words just before
+  uint16_t granularity;
+  uint8_t axis;
+  uint8_t unused = 0;
+};
+
+// A cell's child reference: its kind in the top two bits, so that the walk knows what it
+// steps into before loading anything. Published with a release store when the cell is
+// examined, read with an acquire load.
+namespace child_ref {
+enum Kind : uint32_t {
+  kUnbuilt = 0u << 30,  // not examined yet (or searched through its id list): payload voxel
+  kEmpty = 1u << 30,    // no triangle: payload voxel (for the recorder)
+  kLeaf = 2u << 30,     // payload: LeafStore handle
+  kNode = 3u << 30,     // subdivided: payload node
+};
+constexpr uint32_t kPayload = (1u << 30) - 1;
+constexpr uint32_t kMaxPayload = kPayload;
+inline Kind kind(uint32_t ref) { return Kind(ref & ~kPayload); }
+inline uint32_t payload(uint32_t ref) { return ref & kPayload; }
+inline uint32_t make(Kind kind, uint32_t payload) { return uint32_t(kind) | payload; }
+}  // namespace child_ref
+
+// Occupancy words a node of g cells keeps before its references: bit i of word i / 32 is
+// set when cell i holds a triangle.
+inline uint32_t occupancy_words(uint32_t g) { return (g + 31) / 32; }
+
+// A ray of the sampling pass: its segment [t0, t1] inside the scene box; t1 shrinks to
+// the ray's hit once the pass has traced it.
+struct Grid1D::SampleRay {
+  Ray ray;
+  double origin[3], dir[3];
+  double t0, t1;
+};
+
+// The outcome of the cost function for one voxel: the chosen axis and g, and the contents
+// of each cell (offsets into the flat lists, g + 1 entries each).
+struct Grid1D::Cut {
+  int axis = 0;
+  int granularity = 0;  // < 2: stays a leaf
+  std::vector<uint32_t> tri_offsets, tris;
+  std::vector<uint32_t> sample_offsets, samples;
+  double rays = 0;
+};
+
+// A ray's per-thread traversal scratch. Mailbox and state values belong to the thread: the
+// paper's per-object stamp would race between threads (docs/design.md §5). Cache-line
+// aligned: two threads' contexts must not share a line.
+class alignas(64) Grid1D::Context final : public ThreadContext {
+ public:
+  // The ray's position on one global grid (the paper's dist, delta and index): its slab
+  // and the distance to the slab's exit, valid for the ray `stamp` while t < t_next (the
+  // ray moves monotonically). Wall distances are t_origin + I * t_width from the integer
+  // wall index I, never accumulated, so they do not drift along a long walk.
+  struct StateValues {
+    uint64_t stamp = 0;
+    int64_t index = 0;
+    double t_next = 0.0;
+    double t_origin = 0.0;  // distance to the grid's wall 0
+    double t_width = 0.0;   // distance between walls (signed like the direction)
+    uint64_t rays = 0;      // rays of this thread that used the state (for the states table)
+    double exit_distance(int64_t slab, int step) const {
+      return t_origin + double(step > 0 ? slab + 1 : slab) * t_width;
+    }
+  };
+  static_assert(sizeof(StateValues) == 48);
+
+  explicit Context(const Grid1D& grid) : grid_(grid) {}
+  ~Context() override {
+    for (uint32_t id = 0; id < state_count; ++id)
+      if (states[id].rays)
+        grid_.state_rays_[id].fetch_add(states[id].rays, std::memory_order_relaxed);
+  }
+  // A state first met by this thread grows the table. The size is kept beside the vector:
+  // vector::size() divides by the record's size on every descent.
+  StateValues& state(uint32_t id) {
+    if (id >= state_count) states.resize(state_count = size_t(id) + 64);
+    return states[id];
+  }
+
+  Mailbox mailbox;
+  std::vector<StateValues> states;
+  size_t state_count = 0;
+  // A leaf's triangles copied into the kernel's form, for a voxel searched through its id
+  // list (being cut by another thread, or left without a leaf block by the memory budget).
+  std::vector<float> scratch_coords;
+  std::vector<uint32_t> scratch_ids;
+
+ private:
+  const Grid1D& grid_;
+};
+
+// One ray's walk: its origin and direction in double and, per axis, the node whose
+// traversal state gives the ray's current slab on that axis (§5.3: the current node's own
+// axis and the "voxels above" on the two others).
+struct Grid1D::RayWalk {
+  double origin[3], dir[3], inv_dir[3];
+  int step[3];         // +1, -1, or 0 where the direction component is zero
+  uint32_t active[3];  // node, or kNone: the scene box
+  uint32_t active_state[3];
+  double t_next[3];  // the active states' t_next, kept at hand for choosing the step axis
+  uint64_t ray_id;
+  const PreparedRay<KernelReal>* prepared;
+  float tmax;
+  Hit best;
+};
+
+}  // namespace gs

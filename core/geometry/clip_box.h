@@ -1,0 +1,99 @@
+// The box every structure (brute included) clips rays to, and the stopping rule every walk
+// shares, so that every structure answers exactly what brute answers (docs/design.md §6).
+#pragma once
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "core/geometry/ray.h"
+#include "core/scene/scene.h"
+
+namespace gs {
+
+// Clips [t0, t1] to the box lo..hi; false when nothing is left. A zero direction
+// component constrains only through the origin.
+bool clip_segment(const double origin[3], const double dir[3], const double lo[3],
+                  const double hi[3], double& t0, double& t1);
+
+// The scene box padded by kPadding of the largest coordinate magnitude. With the ray's
+// origin moved to where it enters this box, the kernel's answers are off from exact
+// geometry by a few double ulps of the scene's coordinates; `padding` covers that (and the
+// double rounding of a walk's cell location for origins up to ~1e6 scene sizes away), so a
+// hit the kernel reports lies inside the box and inside every cell a structure sorted the
+// triangle into with that padding.
+struct ClipBox {
+  static constexpr double kPadding = 1e-9;
+  double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  double magnitude = 0.0;  // largest |coordinate| of the scene box
+  double padding = 0.0;    // kPadding * magnitude
+  bool empty = true;
+
+  // Cells narrower than this many float ulps of their own coordinates separate nothing,
+  // and neither do cells only a few paddings wide (docs/design.md §1, degenerate input).
+  static constexpr double kMinCellUlps = 256.0;
+  static constexpr double kMinCellPaddings = 4.0;
+
+  ClipBox() = default;
+  explicit ClipBox(const Box& scene);
+  // The narrowest useful cell in the box lo..hi.
+  double min_cell_width(const double lo[3], const double hi[3]) const;
+  // The ray's [tmin, tmax] clipped to the box; false for a ray that misses it or is invalid.
+  // `inv_dir` receives 1 / dir per axis (infinite for a zero component), for the caller's
+  // walk and kernel.
+  bool clip(const Ray& ray, double& t0, double& t1, double inv_dir[3]) const {
+    if (empty || !ray_is_valid(ray)) return false;
+    const float* origin = &ray.origin.x;
+    const float* dir = &ray.dir.x;
+    t0 = ray.tmin, t1 = ray.tmax;
+    for (int a = 0; a < 3; ++a) {
+      inv_dir[a] = 1.0 / double(dir[a]);
+      if (dir[a] == 0.0f) {
+        if (origin[a] < lo[a] || origin[a] > hi[a]) return false;
+        continue;
+      }
+      const double inv = inv_dir[a];
+      double ta = (lo[a] - origin[a]) * inv, tb = (hi[a] - origin[a]) * inv;
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta), t1 = std::min(t1, tb);
+    }
+    return t0 <= t1;
+  }
+  bool clip(const Ray& ray, double& t0, double& t1) const {
+    double inv_dir[3];
+    return clip(ray, t0, t1, inv_dir);
+  }
+};
+
+// How far past the nearest hit a structure's walk must look before it may stop. The
+// kernel's t is off from the exact crossing by a few double ulps of the distances involved
+// (1e-9 of them is ample), so a hit may be reported slightly before the wall it lies behind.
+// `inv_dir` as ClipBox::clip gives it: 1 / the longest direction component is the largest
+// of its magnitudes, so no division is needed.
+inline double walk_slack(const Ray& ray, double scene_magnitude, const double inv_dir[3]) {
+  double largest = scene_magnitude, shortest_inverse = kInf;
+  for (int a = 0; a < 3; ++a) {
+    largest = std::max(largest, std::fabs(double(ray.origin[a])));
+    shortest_inverse = std::min(shortest_inverse, std::fabs(inv_dir[a]));
+  }
+  return 1e-9 * largest * shortest_inverse;
+}
+
+// The next float above x (toward +infinity); x itself for +infinity and NaN. What
+// std::nextafter(x, +inf) gives, without the library call.
+inline float next_float_up(float x) {
+  if (!(x < std::numeric_limits<float>::infinity())) return x;
+  if (x == 0.0f) return std::numeric_limits<float>::denorm_min();
+  const uint32_t bits = std::bit_cast<uint32_t>(x);
+  return std::bit_cast<float>(x > 0.0f ? bits + 1 : bits - 1);
+}
+
+// A walk may stop once the current cell's (or node's) entry or exit lies beyond this: the
+// nearest hit's t (or tmax) is rounded to float, so a triangle hit at the same float t —
+// which wins if its id is lower — may cross the ray up to the next float beyond it.
+inline double stop_distance(float tmax, double slack) {
+  return double(next_float_up(tmax)) + slack;
+}
+
+}  // namespace gs

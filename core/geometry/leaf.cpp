@@ -1,0 +1,127 @@
+#include "core/geometry/leaf.h"
+
+#include <cstdlib>
+#include <mutex>
+
+#include "core/base/error.h"
+#include "core/geometry/simd.h"
+
+namespace gs {
+
+LeafStore::LeafStore(uint64_t max_bytes)
+    : ids_(max_bytes / 10), coords_(max_bytes / 10 * 9) {}
+
+void LeafStore::reset(uint64_t max_bytes) {
+  ids_.reset(max_bytes / 10);
+  coords_.reset(max_bytes / 10 * 9);
+}
+
+uint32_t LeafStore::add(const std::vector<uint32_t>& ids,
+                        const std::vector<TriangleVerts>& triangles) {
+  const auto n = uint32_t(ids.size());
+  const size_t handle = ids_.append(size_t(n) + 1);
+  if (handle == SIZE_MAX || handle >= kFull ||
+      !coords_.construct(9 * handle, 9 * (size_t(n) + 1)))
+    return kFull;
+  ids_[handle] = n;
+  float* coords = &coords_[9 * (handle + 1)];
+  for (uint32_t i = 0; i < n; ++i) {
+    ids_[handle + 1 + i] = ids[i];
+    const TriangleVerts& t = triangles[ids[i] & ~kOnlyHere];
+    const glm::vec3* corners[3] = {&t.v0, &t.v1, &t.v2};
+    for (int k = 0; k < 3; ++k)
+      for (int a = 0; a < 3; ++a) coords[size_t(3 * k + a) * n + i] = (*corners[k])[a];
+  }
+  return uint32_t(handle);
+}
+
+uint32_t test_lanes_scalar(const LeafView& leaf, uint32_t first, uint32_t lanes,
+                           const PreparedRay<KernelReal>& ray, float tmax, LaneHits& out) {
+  uint32_t hits = 0;
+  for (; lanes != 0; lanes &= lanes - 1) {
+    const uint32_t j = uint32_t(std::countr_zero(lanes)), i = first + j;
+    if (intersect_triangle(ray, leaf.corner(i, 0), leaf.corner(i, 1), leaf.corner(i, 2),
+                           leaf.count, tmax, out.t[j], out.u[j], out.v[j]))
+      hits |= 1u << j;
+  }
+  return hits;
+}
+
+const char* isa_name(Isa isa) {
+  switch (isa) {
+    case Isa::scalar:
+      return "scalar";
+    case Isa::avx2:
+      return "avx2";
+    case Isa::avx512:
+      return "avx512";
+  }
+  return "?";
+}
+
+bool isa_supported(Isa isa) {
+  switch (isa) {
+    case Isa::scalar:
+      return true;
+    case Isa::avx2:
+      return __builtin_cpu_supports("avx2");
+    case Isa::avx512:
+      return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+             __builtin_cpu_supports("avx512dq");
+  }
+  return false;
+}
+
+namespace {
+
+std::mutex isa_mutex;
+bool isa_chosen = false;
+Isa chosen_isa = Isa::scalar;
+
+Isa checked(Isa isa, const std::string& source) {
+  if (!isa_supported(isa))
+    throw UsageError(source + ": this CPU cannot run the " + isa_name(isa) + " kernel");
+  return isa;
+}
+
+Isa from_environment() {
+  const char* forced = std::getenv("GRIDSCOPE_ISA");
+  if (!forced || !*forced) {
+    for (const Isa isa : {Isa::avx512, Isa::avx2})
+      if (isa_supported(isa)) return isa;
+    return Isa::scalar;
+  }
+  for (const Isa isa : {Isa::scalar, Isa::avx2, Isa::avx512})
+    if (std::string(forced) == isa_name(isa))
+      return checked(isa, std::string("GRIDSCOPE_ISA=") + forced);
+  throw UsageError(std::string("GRIDSCOPE_ISA=") + forced +
+                   ": expected scalar, avx2 or avx512");
+}
+
+}  // namespace
+
+Isa kernel_isa() {
+  std::lock_guard lock(isa_mutex);
+  if (!isa_chosen) chosen_isa = from_environment(), isa_chosen = true;
+  return chosen_isa;
+}
+
+void force_kernel_isa(Isa isa) {
+  std::lock_guard lock(isa_mutex);
+  chosen_isa = checked(isa, "force_kernel_isa");
+  isa_chosen = true;
+}
+
+Kernel kernel_for(Isa isa) {
+  switch (isa) {
+    case Isa::avx2:
+      return {4, test_lanes_avx2};
+    case Isa::avx512:
+      return {8, test_lanes_avx512};
+    case Isa::scalar:
+      break;
+  }
+  return {1, test_lanes_scalar};
+}
+
+}  // namespace gs

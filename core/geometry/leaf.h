@@ -1,0 +1,143 @@
+// A leaf's triangles stored once, in the form the kernels read (structure of arrays), and
+// the one leaf-test loop every structure uses: mailbox, kernel, nearest-hit rule, counters.
+// The kernel tests several triangles at once where the CPU allows (core/geometry/simd.h):
+// every lane computes exactly the scalar kernel's operations in the same order, so the
+// answers are the scalar kernel's bit for bit (docs/design.md §6.4).
+#pragma once
+#include <bit>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/accel/accelerator.h"
+#include "core/base/stable_array.h"
+#include "core/geometry/kernel.h"
+#include "core/geometry/mailbox.h"
+#include "core/geometry/triangles.h"
+
+namespace gs {
+
+// Set in a leaf's id entry when the triangle's padded box lies inside the leaf's cell: no
+// earlier cell of any walk can have held it, so it skips the mailbox.
+inline constexpr uint32_t kOnlyHere = 1u << 31;
+
+// One leaf: triangle i's corner k (0..2), axis a (0..2) is coords[(3k + a) * count + i];
+// ids[i] is its id, with kOnlyHere possibly set.
+struct LeafView {
+  const float* coords = nullptr;
+  const uint32_t* ids = nullptr;
+  uint32_t count = 0;
+
+  uint32_t id(uint32_t i) const { return ids[i] & ~kOnlyHere; }
+  const float* corner(uint32_t i, int k) const { return coords + size_t(3 * k) * count + i; }
+};
+
+// Leaves appended by one or more building threads, never moved (readers may be walking
+// others while a leaf is added). A leaf's handle is its position in the id arena, which
+// holds its count and then its ids; its coordinates start at 9 * (handle + 1) in the
+// coordinate arena, which grows in lockstep (9 floats per id slot).
+class LeafStore {
+ public:
+  // Address space for `max_bytes` of leaves (reserved, committed as leaves are written).
+  explicit LeafStore(uint64_t max_bytes = 0);
+  // Drops every leaf and reserves `max_bytes` afresh: for a structure built up front, which
+  // knows what its leaves take before it stores them. Only while nobody reads the store.
+  void reset(uint64_t max_bytes);
+  // Appends a leaf of the triangles `ids` (each with kOnlyHere where it applies; corners
+  // from `triangles`) and returns its handle, or kFull when the reservation is spent.
+  static constexpr uint32_t kFull = UINT32_MAX;
+  uint32_t add(const std::vector<uint32_t>& ids, const std::vector<TriangleVerts>& triangles);
+  LeafView view(uint32_t handle) const {
+    return {&coords_[9 * (size_t(handle) + 1)], &ids_[size_t(handle) + 1], ids_[handle]};
+  }
+  // Bytes one leaf of n triangles takes.
+  static uint64_t bytes_for(uint32_t n) { return uint64_t(n + 1) * 10 * sizeof(float); }
+  uint64_t bytes() const { return ids_.size() * 10 * sizeof(float); }
+
+ private:
+  StableArray<uint32_t> ids_;
+  StableArray<float> coords_;
+};
+
+// The kernel's instruction set. One binary carries them all and picks the widest the CPU
+// has (or GRIDSCOPE_ISA=scalar|avx2|avx512), as Embree does.
+enum class Isa { scalar, avx2, avx512 };
+const char* isa_name(Isa isa);
+// Whether this CPU can run `isa`.
+bool isa_supported(Isa isa);
+// The instruction set structures built from now on use: GRIDSCOPE_ISA if set (a UsageError
+// when it names an unknown set or one this CPU lacks), else the widest this CPU has.
+Isa kernel_isa();
+// Overrides kernel_isa() for structures built afterwards (the tests run every path);
+// UsageError when this CPU lacks it.
+void force_kernel_isa(Isa isa);
+
+// What a kernel call reports for up to kMaxLanes triangles of a leaf.
+inline constexpr uint32_t kMaxLanes = 8;
+struct LaneHits {
+  float t[kMaxLanes], u[kMaxLanes], v[kMaxLanes];
+};
+
+// Tests triangles first .. first + kLanes - 1 of `leaf` (those whose bit is set in `lanes`)
+// and returns the bits of those hit with tmin < t <= tmax, their t, u and v in `out`. Every
+// lane's figures are the scalar intersect_triangle's, bit for bit.
+using LaneTest = uint32_t (*)(const LeafView& leaf, uint32_t first, uint32_t lanes,
+                              const PreparedRay<KernelReal>& ray, float tmax, LaneHits& out);
+struct Kernel {
+  uint32_t lanes = 1;
+  LaneTest test = nullptr;
+};
+Kernel kernel_for(Isa isa);
+
+// The per-thread context of a structure whose only tracing scratch is the mailbox.
+// Cache-line aligned: two threads' contexts must not share a line.
+struct alignas(64) MailboxContext final : ThreadContext {
+  Mailbox mailbox;
+};
+
+// The timed path's recorder hooks for leaf tests: nothing.
+struct NoLeafRecord {
+  void tested(uint32_t /*count*/) {}
+  void rejected() {}
+};
+
+// Tests the leaf's triangles this ray has not tested yet, keeping `best` the nearest hit
+// (lowest id among equal t; docs/design.md §6.3) and `tmax` its t. Returns true when one of
+// them became the nearest hit (AnyHit: when one blocks the ray, which ends the search).
+template <bool AnyHit, class Record = NoLeafRecord>
+inline bool test_leaf(const LeafView& leaf, const Kernel& kernel,
+                      const PreparedRay<KernelReal>& ray, uint64_t ray_id, float& tmax, Hit& best,
+                      Mailbox& mailbox, TraceCounters& counters, Record&& record = {}) {
+  bool found = false;
+  for (uint32_t first = 0; first < leaf.count; first += kernel.lanes) {
+    const uint32_t width = std::min(kernel.lanes, leaf.count - first);
+    uint32_t lanes = (width == 32 ? 0u : 1u << width) - 1u;
+    for (uint32_t j = 0; j < width; ++j) {
+      const uint32_t id = leaf.ids[first + j];
+      if (!(id & kOnlyHere) && mailbox.already_tested(id, ray_id)) {
+        lanes &= ~(1u << j);
+        ++counters.mailbox_rejections;
+        record.rejected();
+      }
+    }
+    if (lanes == 0) continue;
+    const uint32_t tested = uint32_t(std::popcount(lanes));
+    counters.intersection_tests += tested;
+    record.tested(tested);
+    LaneHits out;
+    for (uint32_t hits = kernel.test(leaf, first, lanes, ray, tmax, out); hits != 0;
+         hits &= hits - 1) {
+      const uint32_t j = uint32_t(std::countr_zero(hits));
+      const auto id = int32_t(leaf.id(first + j));
+      if (closer(out.t[j], id, best)) {
+        best = {id, out.t[j], out.u[j], out.v[j]};
+        tmax = out.t[j];
+        found = true;
+        if (AnyHit) return true;
+      }
+    }
+  }
+  return found;
+}
+
+}  // namespace gs

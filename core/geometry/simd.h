@@ -1,0 +1,22 @@
+// The leaf kernels for wider instruction sets, each compiled for its own target in its own
+// file (leaf_avx2.cpp, leaf_avx512.cpp) and called only when the CPU has it
+// (core/geometry/leaf.h, kernel_for).
+#pragma once
+#include "core/geometry/leaf.h"
+
+namespace gs {
+
+// 4 double lanes.
+uint32_t test_lanes_avx2(const LeafView& leaf, uint32_t first, uint32_t lanes,
+                         const PreparedRay<KernelReal>& ray, float tmax, LaneHits& out);
+// 8 double lanes.
+uint32_t test_lanes_avx512(const LeafView& leaf, uint32_t first, uint32_t lanes,
+                           const PreparedRay<KernelReal>& ray, float tmax, LaneHits& out);
+
+// Lanes whose edge functions rounded to zero: the scalar kernel redoes them in wider
+// arithmetic (the paper's rule), so they are handed to it. Returns the lanes of `zero` it
+// found hit, filling `out`.
+uint32_t test_lanes_scalar(const LeafView& leaf, uint32_t first, uint32_t lanes,
+                           const PreparedRay<KernelReal>& ray, float tmax, LaneHits& out);
+
+}  // namespace gs
