@@ -88,6 +88,18 @@ void walk_table(ViewState& state) {
   ImGui::EndTable();
 }
 
+// The cost of each granularity tried on the chosen axis, the chosen one starred.
+void cut_alternatives(const VoxelCostReport& r) {
+  ImGui::TextUnformatted("g     int    trav   rep    ver    total  (per ray, chosen axis)");
+  for (const VoxelCostReport::Alternative& alt : r.alternatives) {
+    if (alt.axis != r.axis) continue;
+    const CutCost& c = alt.cost;
+    ImGui::Text("%-3d%s %-6.3g %-6.3g %-6.3g %-6.3g %-6.3g", alt.granularity,
+                alt.granularity == r.granularity ? "*" : " ", c.int_cost, c.trav_cost, c.rep_cost,
+                c.ver_cost, c.total);
+  }
+}
+
 // The §6 cost model for the inspected cell's parent voxel, as the build evaluated it
 // (Grid1D::cost_report), beside what this ray did there.
 void cost_breakdown(const PickedWalk& picked) {
@@ -107,14 +119,7 @@ void cost_breakdown(const PickedWalk& picked) {
     ImGui::Text("axis %c: best g %d, %.4g per ray vs %.4g uncut: %s", "xyz"[plan.axis],
                 plan.granularity > 1 ? plan.granularity : plan.cost.spanned_cells, plan.cost.total,
                 plan.no_split, plan.granularity > 1 ? "cut pays" : "keep");
-  ImGui::TextUnformatted("g     int    trav   rep    ver    total  (per ray, chosen axis)");
-  for (const VoxelCostReport::Alternative& alt : r.alternatives) {
-    if (alt.axis != r.axis) continue;
-    const CutCost& c = alt.cost;
-    ImGui::Text("%-3d%s %-6.3g %-6.3g %-6.3g %-6.3g %-6.3g", alt.granularity,
-                alt.granularity == r.granularity ? "*" : " ", c.int_cost, c.trav_cost, c.rep_cost,
-                c.ver_cost, c.total);
-  }
+  cut_alternatives(r);
   const RayInVoxel& here = picked.cost->ray_here;
   ImGui::Text("this ray here: %d cells, %llu tests, %llu mailbox rejections", here.cells,
               (unsigned long long)here.tests, (unsigned long long)here.rejections);

@@ -51,7 +51,6 @@ class OverlayCache {
   const std::vector<StateRow>& states() const { return states_; }
   size_t nodes_built() const { return nodes_built_; }
   HeatMap& heat() { return heat_; }
-  const HeatMap& heat() const { return heat_; }
 
  private:
   void read_structure(ViewState& state, const Accelerator& accel);

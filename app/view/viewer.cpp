@@ -105,7 +105,8 @@ void Viewer::lay_out() {
   if (width == setup.width && height == setup.height) return;
   if (!state_.start_camera) {
     state_.start_camera = initial_camera(width, height);
-    state_.place_camera(*state_.start_camera);  // not started yet: the resize starts it
+    // The renderer has no size yet, so this only sets the camera: the resize starts it.
+    state_.place_camera(*state_.start_camera);
   }
   state_.session.resize(width, height);
 }
