@@ -12,7 +12,7 @@
 
 #include "app/bench_job.h"
 #include "app/shot.h"
-#include "app/view.h"
+#include "app/view/view.h"
 #include "bench/calibrate.h"
 #include "core/accel/grid1d/cost_constants.h"
 #include "core/base/error.h"

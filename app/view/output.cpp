@@ -1,0 +1,83 @@
+#include "app/view/output.h"
+
+// glad first: it claims the GL header guard before GLFW or ImGui could pull in GL headers.
+#include <glad/gl.h>
+
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <vector>
+
+#include "app/gl/frame.h"
+#include "app/gl/window.h"
+#include "app/view/state.h"
+#include "core/base/error.h"
+#include "core/base/files.h"
+#include "core/render/render.h"
+
+namespace gs::app {
+
+namespace {
+
+nlohmann::json optional_json(const std::optional<uint64_t>& value) {
+  return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
+}
+
+}  // namespace
+
+void write_walk(const PickedWalk& picked, const std::string& path) {
+  if (!picked.walk)
+    throw InputError("view: pixel " + std::to_string(picked.pixel[0]) + "," +
+                     std::to_string(picked.pixel[1]) + ": no walk recorded");
+  nlohmann::json json = to_json(*picked.walk);
+  const std::string camera = to_string(picked.camera);
+  json["view"] = {{"width", picked.size[0]},
+                  {"height", picked.size[1]},
+                  {"camera", camera},
+                  {"pixel", {picked.pixel[0], picked.pixel[1]}}};
+  write_json(path, json);
+  std::printf("viewport %dx%d camera %s pixel %d,%d\n", picked.size[0], picked.size[1],
+              camera.c_str(), picked.pixel[0], picked.pixel[1]);
+}
+
+void write_screenshot(const gl::Window& window, const std::string& path) {
+  if (window.minimised()) throw InputError(path + ": the window is minimised");
+  const glm::ivec2 size = window.framebuffer_size();
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glReadBuffer(GL_BACK);
+  std::vector<uint8_t> rgba = gl::read_pixels(size.x, size.y);  // rows flipped to the top
+  for (size_t i = 3; i < rgba.size(); i += 4) rgba[i] = 255;    // the window is opaque
+  write_png(path, size.x, size.y, rgba);
+}
+
+void write_stats(const ViewState& state, const std::string& path) {
+  const Session& session = state.session;
+  const ViewSetup& setup = session.setup();
+  const ProgressiveFrame& frame = session.frame();
+  const StructureStats& s = frame.structure;
+  const nlohmann::json stats = {{"scene", setup.scene->name},
+                                {"accel", setup.accel},
+                                {"parameters", setup.params.to_json()},
+                                {"triangles", setup.scene->triangle_count()},
+                                {"view",
+                                 {{"width", frame.width},
+                                  {"height", frame.height},
+                                  {"camera", to_string(session.frame_camera())},
+                                  {"pass", frame.pass},
+                                  {"spp", frame.spp},
+                                  {"current", session.frame_current()}}},
+                                {"rays", frame.rays},
+                                {"rays_per_second", frame.rays_per_second},
+                                {"build_seconds", s.build_seconds},
+                                {"nodes", optional_json(s.nodes)},
+                                {"voxels_subdivided", optional_json(s.voxels_subdivided)},
+                                {"leaves", optional_json(s.leaves)},
+                                {"traversal_states", optional_json(s.traversal_states)},
+                                {"memory_bytes", s.memory_bytes},
+                                {"voxels_over_budget", s.voxels_over_budget},
+                                {"error", frame.error},
+                                {"status", state.status.text()}};
+  write_json(path, stats);
+}
+
+}  // namespace gs::app

@@ -1,0 +1,205 @@
+#include "app/view/panels.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "app/view/camera_input.h"
+#include "app/view/inspector.h"
+#include "app/view/overlay_cache.h"
+#include "app/view/scene_opener.h"
+#include "app/view/state.h"
+#include "app/view/structure_editor.h"
+
+namespace gs::app {
+
+namespace {
+
+const char* const kHeatNames[] = {"none", "steps", "tests", "built"};
+const ImVec4 kWarning(1.0f, 0.4f, 0.4f, 1.0f);  // errors and figures that need attention
+constexpr ImGuiWindowFlags kPanelFlags = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize |
+                                         ImGuiWindowFlags_NoCollapse |
+                                         ImGuiWindowFlags_NoSavedSettings;
+
+void place(float x, float y, float w, float h) {
+  ImGui::SetNextWindowPos(ImVec2(x, y));
+  ImGui::SetNextWindowSize(ImVec2(w, h));
+}
+
+std::string optional_figure(const std::optional<uint64_t>& value) {
+  return value ? std::to_string(*value) : std::string("n/a");
+}
+
+// The turbo bar from the range's low to its high end.
+void heat_legend(const HeatMap& heat) {
+  constexpr int kSteps = 32;
+  constexpr float kHeight = 10.0f;
+  ImDrawList* draw = ImGui::GetWindowDrawList();
+  const ImVec2 at = ImGui::GetCursorScreenPos();
+  const float width = ImGui::GetContentRegionAvail().x;
+  for (int i = 0; i < kSteps; ++i) {
+    const std::array<uint8_t, 3> c0 = turbo(float(i) / kSteps), c1 = turbo(float(i + 1) / kSteps);
+    const ImU32 left = IM_COL32(c0[0], c0[1], c0[2], 255);
+    const ImU32 right = IM_COL32(c1[0], c1[1], c1[2], 255);
+    draw->AddRectFilledMultiColor(ImVec2(at.x + width * i / kSteps, at.y),
+                                  ImVec2(at.x + width * (i + 1) / kSteps, at.y + kHeight), left,
+                                  right, right, left);
+  }
+  ImGui::Dummy(ImVec2(width, kHeight));
+  ImGui::Text("%.3g", heat.lo);
+  ImGui::SameLine(std::max(width - 60.0f, 40.0f));
+  ImGui::Text("%.3g", heat.hi);
+}
+
+// The heatmap's figure at the pixel under the mouse.
+void heat_under_cursor(const ViewState& state, const HeatMap& heat) {
+  const ImGuiIO& io = ImGui::GetIO();
+  const Viewport& view = state.viewport;
+  const ProgressiveFrame& frame = state.session.frame();
+  if (!view.contains(io.MousePos) || frame.width <= 0 || heat.values().empty()) return;
+  const int x = int((io.MousePos.x - view.x) / view.w * frame.width);
+  const int y = int((io.MousePos.y - view.y) / view.h * frame.height);
+  const size_t i = size_t(std::clamp(y, 0, frame.height - 1)) * size_t(frame.width) +
+                   size_t(std::clamp(x, 0, frame.width - 1));
+  if (i < heat.values().size())
+    ImGui::Text("under the cursor (%d, %d): %.2f", x, y, heat.values()[i]);
+}
+
+void heat_controls(ViewState& state, HeatMap& heat) {
+  int kind = int(state.overlays.heat);
+  if (ImGui::Combo("heatmap", &kind, kHeatNames, IM_ARRAYSIZE(kHeatNames))) {
+    state.overlays.heat = HeatKind(kind);
+    heat.invalidate();
+  }
+  if (state.overlays.heat == HeatKind::none) return;
+  if (ImGui::Checkbox("auto range", &heat.auto_range)) heat.invalidate();
+  if (ImGui::DragFloatRange2("range", &heat.lo, &heat.hi, 0.1f, 0.0f, 1e6f)) {
+    heat.auto_range = false;
+    heat.invalidate();
+  }
+  ImGui::Text("max %.2f per sample", heat.max());
+  heat_legend(heat);
+  heat_under_cursor(state, heat);
+}
+
+void overlay_controls(ViewState& state, HeatMap& heat) {
+  OverlaySelection& shown = state.overlays;
+  bool changed = ImGui::Checkbox("cells", &shown.cells);
+  ImGui::SameLine();
+  changed |= ImGui::Checkbox("states", &shown.states);
+  ImGui::SameLine();
+  if (ImGui::Checkbox("walk", &shown.walk)) state.walk_changed();
+  int by_axis = state.colour_by_axis ? 1 : 0;
+  ImGui::TextUnformatted("cell colour");
+  ImGui::SameLine();
+  changed |= ImGui::RadioButton("depth", &by_axis, 0);
+  ImGui::SameLine();
+  changed |= ImGui::RadioButton("axis", &by_axis, 1);
+  state.colour_by_axis = by_axis == 1;
+  if (changed) state.overlays_stale = true;
+  heat_controls(state, heat);
+}
+
+void statistics_tab(const ViewState& state, const OverlayCache& overlays) {
+  const ViewSetup& setup = state.session.setup();
+  const ProgressiveFrame& frame = state.session.frame();
+  const StructureStats& s = frame.structure;
+  ImGui::Text("%s, %zu triangles, pass %d, %d spp, %.3g rays/s, %llu rays", setup.accel.c_str(),
+              setup.scene->triangle_count(), frame.pass, frame.spp, frame.rays_per_second,
+              (unsigned long long)frame.rays);
+  ImGui::Text("nodes %s  subdivided %s  leaves %s  states %s  memory %.1f MB (budget %s)",
+              optional_figure(s.nodes).c_str(), optional_figure(s.voxels_subdivided).c_str(),
+              optional_figure(s.leaves).c_str(), optional_figure(s.traversal_states).c_str(),
+              double(s.memory_bytes) / 1e6, byte_text(setup.params.memory_budget).c_str());
+  if (s.voxels_over_budget > 0)
+    ImGui::TextColored(kWarning, "%llu voxels over budget: left as leaves (raise the budget)",
+                       (unsigned long long)s.voxels_over_budget);
+  else
+    ImGui::TextDisabled("voxels over budget: 0");
+  ImGui::Text("overlays show %zu nodes built (refreshed every %.1f s while it grows)",
+              overlays.nodes_built(), kOverlayInterval);
+  if (!frame.error.empty()) ImGui::TextColored(kWarning, "%s", frame.error.c_str());
+  for (const LineSet& set : overlays.structure_lines())
+    for (size_t i = 0; i < std::min<size_t>(set.legend.size(), 8); ++i) {
+      const glm::vec4 c = set.legend[i].color;
+      ImGui::TextColored(ImVec4(c.r, c.g, c.b, 1.0f), "%s", set.legend[i].label.c_str());
+    }
+}
+
+void states_tab(const OverlayCache& overlays) {
+  if (!ImGui::BeginTable("states", 5, ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollY)) return;
+  ImGui::TableSetupColumn("state");
+  ImGui::TableSetupColumn("axis");
+  ImGui::TableSetupColumn("G");
+  ImGui::TableSetupColumn("voxels");
+  ImGui::TableSetupColumn("rays that used it");
+  ImGui::TableHeadersRow();
+  for (const StateRow& row : overlays.states()) {
+    ImGui::TableNextRow();
+    ImGui::TableNextColumn();
+    ImGui::Text("%u", row.state);
+    ImGui::TableNextColumn();
+    ImGui::Text("%c", "xyz"[row.axis % 3]);
+    ImGui::TableNextColumn();
+    ImGui::Text("%llu", (unsigned long long)row.absolute_granularity);
+    ImGui::TableNextColumn();
+    ImGui::Text("%llu", (unsigned long long)row.voxels);
+    ImGui::TableNextColumn();
+    ImGui::Text("%llu", (unsigned long long)row.rays);
+  }
+  ImGui::EndTable();
+}
+
+}  // namespace
+
+Panels::Panels(StructureEditor& structure, OverlayCache& overlays, CameraInput& camera,
+               SceneOpener& scene)
+    : structure_(structure), overlays_(overlays), camera_(camera), scene_(scene) {}
+
+void Panels::draw(ViewState& state) {
+  controls_panel(state);
+  bottom_panel(state);
+}
+
+void Panels::controls_panel(ViewState& state) {
+  const ImVec2 display = ImGui::GetIO().DisplaySize;
+  const float left = state.viewport.w;
+  place(left, 0, std::max(display.x - left, 1.0f), display.y);
+  ImGui::Begin("controls", nullptr, kPanelFlags);
+  const ImGuiTreeNodeFlags open = ImGuiTreeNodeFlags_DefaultOpen;
+  if (ImGui::CollapsingHeader("structure", open)) structure_.controls(state);
+  if (ImGui::CollapsingHeader("overlays", open)) overlay_controls(state, overlays_.heat());
+  if (ImGui::CollapsingHeader("camera", open)) camera_.controls(state);
+  if (ImGui::CollapsingHeader("scene", open)) scene_.controls();
+  const std::string& status = state.status.text();
+  if (!status.empty()) ImGui::TextWrapped("%s", status.c_str());
+  ImGui::End();
+}
+
+void Panels::bottom_panel(ViewState& state) {
+  const Viewport& view = state.viewport;
+  place(0, view.h, view.w, std::max(ImGui::GetIO().DisplaySize.y - view.h, 1.0f));
+  ImGui::Begin("statistics and inspector", nullptr, kPanelFlags);
+  if (ImGui::BeginTabBar("tabs")) {
+    if (ImGui::BeginTabItem("walk")) {
+      walk_tab(state);
+      ImGui::EndTabItem();
+    }
+    if (ImGui::BeginTabItem("statistics")) {
+      statistics_tab(state, overlays_);
+      ImGui::EndTabItem();
+    }
+    if (ImGui::BeginTabItem("states")) {
+      states_tab(overlays_);
+      ImGui::EndTabItem();
+    }
+    ImGui::EndTabBar();
+  }
+  ImGui::End();
+}
+
+}  // namespace gs::app

@@ -1,0 +1,129 @@
+#include "app/view/viewer.h"
+
+// glad first: it claims the GL header guard before GLFW or ImGui could pull in GL headers.
+#include <glad/gl.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+
+#include <utility>
+
+#include "app/view/output.h"
+
+namespace gs::app {
+
+namespace {
+
+// The close-up of lumpy's cluster the README's pictures use.
+constexpr const char* kCloseUp = "eye=3.2,-4.2,2.2;target=0,0,0.35;up=0,0,1;fov=40";
+constexpr double kIdleWait = 0.05;  // seconds a minimised window sleeps per frame
+
+}  // namespace
+
+Viewer::Viewer(const ViewJob& job, std::shared_ptr<const Scene> scene,
+               std::vector<ScriptStep> steps)
+    : job_(job),
+      window_(job.width, job.height, "gridscope view"),
+      state_(scene, job.accel, job.params, job.overlays),
+      scene_(scene->name),
+      script_(job, std::move(steps)),
+      structure_(job.accel, job.params),
+      panels_(structure_, overlays_, camera_input_, scene_) {
+  if (script_.scripted()) glfwSwapInterval(0);  // scripts need no vsync
+}
+
+void Viewer::run() {
+  while (!window_.should_close()) {
+    window_.poll_events();
+    run_due_steps();
+    scene_.take_loaded(state_);
+    take_frame();
+    const bool drawn = !window_.minimised();
+    if (drawn)
+      draw_frame();
+    else
+      window_.wait_events(kIdleWait);
+    if (script_.frame_done(state_, scene_.pending().has_value())) {
+      if (!job_.screenshot.empty()) write_screenshot(window_, job_.screenshot);
+      break;
+    }
+    if (drawn) window_.swap();
+  }
+  window_.hide();  // gone at once, while the workers finish their rows
+  if (!job_.stats.empty()) write_stats(state_, job_.stats);
+}
+
+void Viewer::run_due_steps() {
+  while (const ScriptStep* step = script_.next_due_step()) run_step(*step);
+}
+
+void Viewer::run_step(const ScriptStep& step) {
+  switch (step.action) {
+    case ScriptStep::Action::resize:
+      window_.resize(step.size[0], step.size[1]);
+      break;
+    case ScriptStep::Action::open:
+      scene_.open(step.name);
+      break;
+    case ScriptStep::Action::set:
+      structure_.set(state_, step.name, step.value);
+      break;
+    case ScriptStep::Action::close:
+      window_.close();
+      break;
+  }
+}
+
+void Viewer::take_frame() {
+  if (state_.session.take_frame()) script_.check_frame(state_.session.frame());
+}
+
+void Viewer::draw_frame() {
+  window_.begin_frame();
+  ImGui::NewFrame();
+  build_ui();
+  ImGui::Render();
+  render();
+}
+
+void Viewer::build_ui() {
+  lay_out();
+  script_.click(state_);
+  camera_input_.update(state_);
+  overlays_.refresh(state_);
+  viewport_.draw(state_, overlays_);
+  panels_.draw(state_);
+}
+
+// Places the viewport for the window's current size; a new size restarts the renderer at
+// that size, from the starting camera the first time.
+void Viewer::lay_out() {
+  state_.viewport = viewport_.place(ImGui::GetIO());
+  const int width = int(state_.viewport.w * state_.viewport.scale);
+  const int height = int(state_.viewport.h * state_.viewport.scale);
+  const ViewSetup& setup = state_.session.setup();
+  if (width == setup.width && height == setup.height) return;
+  if (!state_.start_camera) {
+    state_.start_camera = initial_camera(width, height);
+    // The renderer has no size yet, so this only sets the camera: the resize starts it.
+    state_.place_camera(*state_.start_camera);
+  }
+  state_.session.resize(width, height);
+}
+
+Camera Viewer::initial_camera(int width, int height) const {
+  if (job_.camera) return *job_.camera;
+  if (job_.scene.empty()) return parse_camera(kCloseUp);
+  return frame_box(state_.session.setup().scene->bounds(), float(width) / float(height));
+}
+
+void Viewer::render() {
+  const glm::ivec2 size = window_.framebuffer_size();
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glViewport(0, 0, size.x, size.y);
+  glClearColor(0.1f, 0.1f, 0.12f, 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  imgui_renderer_.draw(ImGui::GetDrawData());
+}
+
+}  // namespace gs::app

@@ -1,0 +1,55 @@
+// The viewer's window and its frame loop, in the shape of Dear ImGui's example main loop:
+// poll events, new frame, build the UI, render, swap. The parts it runs every frame (script,
+// camera input, overlay cache, viewport, panels) share one ViewState.
+#pragma once
+#include <memory>
+#include <vector>
+
+#include "app/gl/imgui_renderer.h"
+#include "app/gl/window.h"
+#include "app/view/camera_input.h"
+#include "app/view/overlay_cache.h"
+#include "app/view/panels.h"
+#include "app/view/scene_opener.h"
+#include "app/view/script.h"
+#include "app/view/state.h"
+#include "app/view/structure_editor.h"
+#include "app/view/view.h"
+#include "app/view/viewport.h"
+
+namespace gs::app {
+
+class Viewer {
+ public:
+  // Opens the window (InputError without an OpenGL 3.3 context).
+  Viewer(const ViewJob& job, std::shared_ptr<const Scene> scene, std::vector<ScriptStep> steps);
+
+  // One frame per turn until the window closes or the script is done. A minimised window
+  // draws nothing (no 0x0 viewport, texture or render) but still counts frames, runs script
+  // steps and takes loads and passes.
+  void run();
+
+ private:
+  void run_due_steps();
+  void run_step(const ScriptStep& step);
+  void take_frame();
+  void draw_frame();
+  void build_ui();
+  void lay_out();
+  Camera initial_camera(int width, int height) const;
+  void render();
+
+  const ViewJob& job_;
+  gl::Window window_;  // first: the GL context outlives every GL object below
+  gl::ImGuiRenderer imgui_renderer_;
+  ViewportImage viewport_;
+  ViewState state_;    // holds the renderer: its destructor stops the workers
+  SceneOpener scene_;  // its destructor waits for a load in progress
+  Script script_;
+  CameraInput camera_input_;
+  OverlayCache overlays_;
+  StructureEditor structure_;
+  Panels panels_;
+};
+
+}  // namespace gs::app

@@ -1,0 +1,120 @@
+#include "app/view/viewport.h"
+
+// glad first: it claims the GL header guard before GLFW or ImGui could pull in GL headers.
+#include <glad/gl.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "app/view/overlay_cache.h"
+#include "core/render/render.h"
+
+namespace gs::app {
+
+namespace {
+
+// Panels take a share of the window within these bounds; the viewport gets the rest.
+constexpr float kPanelShare = 0.3f, kPanelMin = 300.0f, kPanelMax = 420.0f;  // on the right
+constexpr float kBottomShare = 0.3f, kBottomMin = 180.0f, kBottomMax = 300.0f;
+// The viewport never grows beyond this many pixels a side, whatever the window: the renderer
+// and the UI hold about 90 bytes per pixel in flight (images, per-pixel records, sums), 1.5 GB
+// here.
+constexpr int kMaxViewportSide = 4096;
+
+}  // namespace
+
+void ViewportTarget::resize(int width, int height) {
+  if (width == width_ && height == height_) return;
+  release();
+  width_ = width, height_ = height;
+  glGenTextures(1, &colour_);
+  glBindTexture(GL_TEXTURE_2D, colour_);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glGenRenderbuffers(1, &depth_);
+  glBindRenderbuffer(GL_RENDERBUFFER, depth_);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
+  glGenFramebuffers(1, &fbo_);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour_, 0);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void ViewportTarget::bind() const { glBindFramebuffer(GL_FRAMEBUFFER, fbo_); }
+
+ImTextureID ViewportTarget::texture() const {
+  return reinterpret_cast<ImTextureID>(intptr_t(colour_));
+}
+
+void ViewportTarget::release() {
+  if (fbo_) glDeleteFramebuffers(1, &fbo_);
+  if (depth_) glDeleteRenderbuffers(1, &depth_);
+  if (colour_) glDeleteTextures(1, &colour_);
+  fbo_ = depth_ = colour_ = 0;
+}
+
+ViewportImage::ViewportImage() {
+  // The viewport is a texture and a depth renderbuffer: no larger than GL allows either.
+  GLint texture = 0, renderbuffer = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &texture);
+  glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &renderbuffer);
+  max_side_ = std::min({kMaxViewportSide, int(texture), int(renderbuffer)});
+}
+
+Viewport ViewportImage::place(const ImGuiIO& io) const {
+  Viewport view;
+  view.scale = std::max(io.DisplayFramebufferScale.x, 1.0f);
+  const float panel = std::clamp(io.DisplaySize.x * kPanelShare, kPanelMin, kPanelMax);
+  const float bottom = std::clamp(io.DisplaySize.y * kBottomShare, kBottomMin, kBottomMax);
+  const float largest = float(max_side_) / view.scale;
+  view.w = std::clamp(io.DisplaySize.x - panel, kMinViewport, largest);
+  view.h = std::clamp(io.DisplaySize.y - bottom, kMinViewport, largest);
+  return view;
+}
+
+void ViewportImage::draw(const ViewState& state, OverlayCache& overlays) {
+  const ViewSetup& setup = state.session.setup();
+  const ProgressiveFrame& frame = state.session.frame();
+  target_.resize(setup.width, setup.height);
+  target_.bind();
+  const size_t pixels = size_t(frame.width) * size_t(frame.height);
+  if (frame.image.rgba.size() == pixels * 4 && pixels > 0) {
+    draw_frame(state, overlays);
+  } else {
+    glViewport(0, 0, setup.width, setup.height);
+    glClearColor(kBackground[0] / 255.0f, kBackground[1] / 255.0f, kBackground[2] / 255.0f, 1);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  // GL textures count rows from the bottom: flip v.
+  const Viewport& view = state.viewport;
+  ImGui::GetBackgroundDrawList()->AddImage(target_.texture(), ImVec2(view.x, view.y),
+                                           ImVec2(view.x + view.w, view.y + view.h), ImVec2(0, 1),
+                                           ImVec2(1, 0));
+}
+
+void ViewportImage::draw_frame(const ViewState& state, OverlayCache& overlays) {
+  const ViewSetup& setup = state.session.setup();
+  const ProgressiveFrame& frame = state.session.frame();
+  std::vector<LineSet> lines = overlays.structure_lines();
+  if (state.overlays.walk && !state.picked.lines.vertices.empty())
+    lines.push_back(state.picked.lines);
+  const bool heat = state.overlays.heat != HeatKind::none &&
+                    frame.pixels.size() == size_t(frame.width) * size_t(frame.height);
+  gl::FrameInput input;
+  input.image_width = frame.width;
+  input.image_height = frame.height;
+  input.rgba = heat ? std::span<const uint8_t>(overlays.heat().rgba(frame, state.overlays.heat))
+                    : std::span<const uint8_t>(frame.image.rgba);
+  input.distance = state.session.distances();
+  input.camera = state.session.frame_camera();
+  input.scene_box = setup.scene->bounds();
+  input.lines = lines;
+  frame_renderer_.draw(setup.width, setup.height, input);
+}
+
+}  // namespace gs::app
