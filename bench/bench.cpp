@@ -433,7 +433,7 @@ class BenchRun {
   json run() {
     calibrate_constants();
     const std::string shared =
-        options_.shared_dir.empty() ? find_shared_dir() : options_.shared_dir;
+        options_.shared_dir.empty() ? find_assets_dir() : options_.shared_dir;
     for (const std::string& name :
          options_.scenes.empty() ? bench_suite(options_.quick) : options_.scenes) {
       std::string skipped;

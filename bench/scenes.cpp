@@ -13,11 +13,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-bool has_scenes(const fs::path& dir) {
-  std::error_code error;
-  return fs::is_directory(dir / "scenes", error);
-}
-
 // Appends `part` to `scene`, each vertex scaled by `scale` and moved by `offset`; the part's
 // triangles take the ids after the scene's.
 void append_part(Scene& scene, const Scene& part, float scale, const glm::vec3& offset) {
@@ -51,9 +46,9 @@ float floor_below(const Scene& scene, const glm::vec3& origin) {
 
 // The trike role (irregular extents of complexity): the Stanford bunny, 3 units tall, on the
 // floor of the Sibenik cathedral (y up), seen from down the nave.
-BenchScene bunny_in_sibenik(const fs::path& scenes) {
-  Scene scene = load_scene((scenes / "sibenik" / "sibenik.obj").string());
-  const Scene bunny = load_scene((scenes / "bunny" / "stanford-bunny.obj").string());
+BenchScene bunny_in_sibenik(const fs::path& assets) {
+  Scene scene = load_scene((assets / "sibenik" / "sibenik.obj").string());
+  const Scene bunny = load_scene((assets / "bunny" / "stanford-bunny.obj").string());
   const Box cathedral = scene.bounds(), rabbit = bunny.bounds();
   const float scale = 3.0f / (rabbit.hi.y - rabbit.lo.y);
   const float floor = floor_below(scene, 0.5f * (cathedral.lo + cathedral.hi));
@@ -75,8 +70,8 @@ BenchScene bunny_in_sibenik(const fs::path& scenes) {
 
 // The car role (a central object in modest extents): the F-15 (z up) over a ground square
 // three times its length, seen from above and to the front-left.
-BenchScene f15_on_ground(const fs::path& scenes) {
-  Scene scene = load_scene((scenes / "f15" / "f15.obj").string());
+BenchScene f15_on_ground(const fs::path& assets) {
+  Scene scene = load_scene((assets / "f15" / "f15.obj").string());
   const Box plane = scene.bounds();
   const glm::vec3 centre = 0.5f * (plane.lo + plane.hi);
   const float length = glm::length(plane.hi - plane.lo);
@@ -106,7 +101,7 @@ BenchScene builtin_scene(const std::string& label) {
   return bench;
 }
 
-// The shared files a suite scene needs, relative to scenes/.
+// The files a suite scene needs, relative to the assets folder.
 std::vector<std::string> suite_files(const std::string& name) {
   if (name == "dragon") return {"dragon/dragon_vrip_res3.ply"};
   if (name == "dragon-full") return {"dragon/dragon_vrip.ply.gz"};
@@ -115,12 +110,22 @@ std::vector<std::string> suite_files(const std::string& name) {
   return {};
 }
 
+// Why a suite scene cannot run, and what fixes it.
+std::string missing_files_reason(const std::string& name, const std::string& assets_dir,
+                                 const std::string& file) {
+  const std::string fix = "scripts/fetch-assets.sh fetches the scenes git does not hold";
+  if (assets_dir.empty())
+    return name + ": no assets folder (run from the source tree or set GRIDSCOPE_ASSETS; " + fix +
+           ")";
+  return name + ": " + (fs::path(assets_dir) / file).string() + " is missing (" + fix + ")";
+}
+
 }  // namespace
 
-std::string find_shared_dir() {
-  if (const char* env = std::getenv("GRIDSCOPE_SHARED"); env && has_scenes(env)) return env;
-  const fs::path beside = fs::path(GRIDSCOPE_SOURCE_DIR) / ".." / "shared";
-  return has_scenes(beside) ? fs::weakly_canonical(beside).string() : std::string();
+std::string find_assets_dir() {
+  if (const char* env = std::getenv("GRIDSCOPE_ASSETS"); env && *env) return env;
+  std::error_code error;
+  return fs::is_directory("assets", error) ? fs::absolute("assets", error).string() : std::string();
 }
 
 std::vector<std::string> bench_suite(bool quick) {
@@ -128,7 +133,7 @@ std::vector<std::string> bench_suite(bool quick) {
   return {"pyramid", "lumpy", "dragon", "bunny-sibenik", "f15", "dragon-full"};
 }
 
-std::optional<BenchScene> load_bench_scene(const std::string& name, const std::string& shared_dir,
+std::optional<BenchScene> load_bench_scene(const std::string& name, const std::string& assets_dir,
                                            std::string& skipped) {
   if (name == "pyramid" || name == "lumpy") return builtin_scene(name);
   const std::vector<std::string> files = suite_files(name);
@@ -136,17 +141,15 @@ std::optional<BenchScene> load_bench_scene(const std::string& name, const std::s
     auto scene = std::make_shared<const Scene>(load_scene(name));
     return BenchScene{name, "", std::nullopt, std::move(scene), std::nullopt};
   }
-  const fs::path scenes = fs::path(shared_dir) / "scenes";
+  const fs::path assets(assets_dir);
   for (const std::string& file : files)
-    if (shared_dir.empty() || !fs::exists(scenes / file)) {
-      skipped = name + ": " +
-                (shared_dir.empty() ? "no ../shared directory"
-                                    : (scenes / file).string() + " is missing");
+    if (assets_dir.empty() || !fs::exists(assets / file)) {
+      skipped = missing_files_reason(name, assets_dir, file);
       return std::nullopt;
     }
-  if (name == "bunny-sibenik") return bunny_in_sibenik(scenes);
-  if (name == "f15") return f15_on_ground(scenes);
-  return mesh_scene(scenes / files.front(), name, name == "dragon" ? "drum" : "scale");
+  if (name == "bunny-sibenik") return bunny_in_sibenik(assets);
+  if (name == "f15") return f15_on_ground(assets);
+  return mesh_scene(assets / files.front(), name, name == "dragon" ? "drum" : "scale");
 }
 
 }  // namespace gs

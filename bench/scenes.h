@@ -1,6 +1,6 @@
-// The benchmark's scenes (issue 4): the five scene roles of the paper's section 7 played by
-// built-in scenes and by real meshes from ../shared/scenes, each with the view the bench
-// renders it from. A scene can also be any SCENE argument (a path or builtin:NAME).
+// The benchmark's scenes: the five scene roles of the paper's section 7 played by built-in
+// scenes and by real meshes from the assets folder (assets/README.md), each with the view the
+// bench renders it from. A scene can also be any SCENE argument (a path or builtin:NAME).
 #pragma once
 #include <memory>
 #include <optional>
@@ -26,18 +26,20 @@ struct BenchScene {
       std::nullopt;  // default: the renderer's, above and behind the camera
 };
 
-// Where the shared meshes are: $GRIDSCOPE_SHARED when set, else ../shared beside the source
-// tree the binary was built from. Empty when neither holds scenes/.
-std::string find_shared_dir();
+// Where the real meshes are: $GRIDSCOPE_ASSETS when set, else assets/ in the current folder
+// (the bench is run from the source tree). Empty when neither is there. No path is compiled
+// in: an installed gridscope must not read a build machine's folders.
+std::string find_assets_dir();
 
 // The suite's names in order: pyramid, lumpy, dragon, bunny-sibenik, f15, dragon-full.
-// --quick runs the first two (built-in, so it needs no shared meshes).
+// --quick runs the first two (built-in, so it needs no meshes).
 std::vector<std::string> bench_suite(bool quick);
 
 // Loads one benchmark scene by suite name, builtin:NAME or path. A suite scene whose meshes
-// are missing from shared_dir gives std::nullopt and sets `skipped` to why; a user's scene
-// that cannot be read throws InputError.
-std::optional<BenchScene> load_bench_scene(const std::string& name, const std::string& shared_dir,
+// are missing from assets_dir (files at assets_dir/sibenik/sibenik.obj, ...) gives
+// std::nullopt and sets `skipped` to why, naming the script that fetches them; a user's
+// scene that cannot be read throws InputError.
+std::optional<BenchScene> load_bench_scene(const std::string& name, const std::string& assets_dir,
                                            std::string& skipped);
 
 }  // namespace gs

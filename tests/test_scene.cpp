@@ -1,5 +1,5 @@
 // Scene loading, built-in scenes, triangulation and export, each checked against an answer
-// worked out independently: Haines' own SPD output, the counts and bounds of SOURCES.md,
+// worked out independently: Haines' own SPD output, the real files' counts and bounds,
 // polygon areas by Newell's formula, and hand-written files with known triangles.
 #include <gtest/gtest.h>
 #include <zlib.h>
@@ -131,8 +131,8 @@ Scene scene_of(const std::vector<vec3>& vertices, const std::vector<uvec3>& tria
 // Built-in scenes
 
 TEST(Builtin, PyramidEqualsHainesTetra) {
-  const std::string path = test::shared_file("scenes/spd/spd_tetra.obj");
-  if (path.empty()) GTEST_SKIP() << "../shared/scenes/spd/spd_tetra.obj not present";
+  const std::string path = test::asset_file("spd/spd_tetra.obj");
+  if (path.empty()) GTEST_SKIP() << test::missing_asset("spd/spd_tetra.obj");
   const Polygons reference = read_reference_obj(path);
   const Scene scene = load_scene("builtin:pyramid");
   ASSERT_EQ(reference.faces.size(), 4096u);
@@ -226,8 +226,8 @@ double max_radius_error(const std::vector<dvec3>& points, dvec3 centre, double r
 }
 
 TEST(Builtin, SphereflakeSpheresMatchBallsNff) {
-  const std::string path = test::shared_file("scenes/spd/balls.nff");
-  if (path.empty()) GTEST_SKIP() << "../shared/scenes/spd/balls.nff not present";
+  const std::string path = test::asset_file("spd/balls.nff");
+  if (path.empty()) GTEST_SKIP() << test::missing_asset("spd/balls.nff");
   const Nff nff = read_balls_nff(path);
   ASSERT_EQ(nff.centers.size(), 7381u);
   ASSERT_EQ(nff.floor.size(), 4u);
@@ -459,8 +459,8 @@ bool is_simple(const std::vector<dvec3>& p, dvec3 normal) {
 // areas summing to the polygon's: a fan across a concave corner or an ear cut outside the
 // polygon would add area. (Unprojected areas differ slightly for warped quads.)
 void check_polygon_areas(const std::string& relative, size_t triangles) {
-  const std::string path = test::shared_file(relative);
-  if (path.empty()) GTEST_SKIP() << "../shared/" << relative << " not present";
+  const std::string path = test::asset_file(relative);
+  if (path.empty()) GTEST_SKIP() << test::missing_asset(relative);
   const Scene scene = load_scene(path);
   const Polygons reference = read_reference_obj(path);
   ASSERT_EQ(scene.triangle_count(), triangles);
@@ -499,8 +499,8 @@ void check_polygon_areas(const std::string& relative, size_t triangles) {
               relative.c_str(), crossed, non_fan);
 }
 
-TEST(Triangulate, F15Areas) { check_polygon_areas("scenes/f15/f15.obj", 9288); }
-TEST(Triangulate, GearsAreas) { check_polygon_areas("scenes/spd/spd_gears.obj", 36610); }
+TEST(Triangulate, F15Areas) { check_polygon_areas("f15/f15.obj", 9288); }
+TEST(Triangulate, GearsAreas) { check_polygon_areas("spd/spd_gears.obj", 36610); }
 
 // ---------------------------------------------------------------------------------------
 // OBJ and PLY files with known triangles
@@ -642,11 +642,11 @@ TEST(Ply, CrlfHeaderAndFacesBeforeVertices) {
 }
 
 // ---------------------------------------------------------------------------------------
-// Real files: counts and bounds from SOURCES.md
+// Real files (assets/README.md): triangle counts and bounds measured apart from the loader
 
-void check_shared(const std::string& relative, size_t triangles, vec3 lo, vec3 hi) {
-  const std::string path = test::shared_file(relative);
-  if (path.empty()) GTEST_SKIP() << "../shared/" << relative << " not present";
+void check_asset(const std::string& relative, size_t triangles, vec3 lo, vec3 hi) {
+  const std::string path = test::asset_file(relative);
+  if (path.empty()) GTEST_SKIP() << test::missing_asset(relative);
   const auto start = Clock::now();
   const Scene scene = load_scene(path);
   const double seconds = seconds_since(start);
@@ -654,30 +654,30 @@ void check_shared(const std::string& relative, size_t triangles, vec3 lo, vec3 h
               scene.triangle_count(), seconds);
   EXPECT_EQ(scene.triangle_count(), triangles);
   const Box box = scene.bounds();
-  for (int k = 0; k < 3; ++k) {  // SOURCES.md prints six significant digits
+  for (int k = 0; k < 3; ++k) {  // the bounds are given to six significant digits
     EXPECT_NEAR(box.lo[k], lo[k], 5e-6 * std::abs(lo[k]) + 1e-7);
     EXPECT_NEAR(box.hi[k], hi[k], 5e-6 * std::abs(hi[k]) + 1e-7);
   }
 }
 
-TEST(Shared, StanfordBunnyObj) {
-  check_shared("scenes/bunny/stanford-bunny.obj", 69451, {-0.09469f, 0.032987f, -0.061874f},
-               {0.061009f, 0.187321f, 0.0588f});
+TEST(Assets, StanfordBunnyObj) {
+  check_asset("bunny/stanford-bunny.obj", 69451, {-0.09469f, 0.032987f, -0.061874f},
+              {0.061009f, 0.187321f, 0.0588f});
 }
 
-TEST(Shared, SibenikObjWithMissingMtl) {
-  check_shared("scenes/sibenik/sibenik.obj", 73564, {-20.1411f, -15.3123f, -8.4968f},
-               {20.1411f, 15.3f, 8.4968f});
+TEST(Assets, SibenikObjWithMissingMtl) {
+  check_asset("sibenik/sibenik.obj", 73564, {-20.1411f, -15.3123f, -8.4968f},
+              {20.1411f, 15.3f, 8.4968f});
 }
 
-TEST(Shared, DragonRes4Ply) {
-  check_shared("scenes/dragon/dragon_vrip_res4.ply", 11102, {-0.107585f, 0.0528441f, -0.049836f},
-               {0.0952357f, 0.196343f, 0.0408262f});
+TEST(Assets, DragonRes4Ply) {
+  check_asset("dragon/dragon_vrip_res4.ply", 11102, {-0.107585f, 0.0528441f, -0.049836f},
+              {0.0952357f, 0.196343f, 0.0408262f});
 }
 
-TEST(Shared, DragonFullPlyGz) {
-  check_shared("scenes/dragon/dragon_vrip.ply.gz", 871414, {-0.108324f, 0.0527295f, -0.0504143f},
-               {0.0965662f, 0.197173f, 0.0412075f});
+TEST(Assets, DragonFullPlyGz) {
+  check_asset("dragon/dragon_vrip.ply.gz", 871414, {-0.108324f, 0.0527295f, -0.0504143f},
+              {0.0965662f, 0.197173f, 0.0412075f});
 }
 
 // ---------------------------------------------------------------------------------------
@@ -707,7 +707,7 @@ TEST(Export, RoundTripsBitForBit) {
                               {123456.79f, -1e-7f, 2.7182817f}},
                              {{0, 1, 2}});
   expect_round_trip(odd, "odd.obj");
-  const std::string path = test::shared_file("scenes/dragon/dragon_vrip_res4.ply");
+  const std::string path = test::asset_file("dragon/dragon_vrip_res4.ply");
   if (!path.empty()) expect_round_trip(load_scene(path), "dragon_res4.obj");
 }
 

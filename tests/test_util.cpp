@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <glm/geometric.hpp>
@@ -15,9 +16,20 @@
 
 namespace gs::test {
 
-std::string shared_file(const std::string& relative) {
-  const std::filesystem::path path = std::filesystem::path(GRIDSCOPE_SHARED_DIR) / relative;
+std::string assets_dir() {
+  const char* env = std::getenv("GRIDSCOPE_ASSETS");
+  return env && *env ? env : GRIDSCOPE_SOURCE_ASSETS;
+}
+
+std::string asset_file(const std::string& relative) {
+  const std::filesystem::path path = std::filesystem::path(assets_dir()) / relative;
   return std::filesystem::exists(path) ? path.string() : std::string();
+}
+
+std::string missing_asset(const std::string& relative) {
+  return (std::filesystem::path(assets_dir()) / relative).string() +
+         " is missing: scripts/fetch-assets.sh fetches the scenes git does not hold "
+         "(assets/README.md)";
 }
 
 std::string temp_path(const std::string& name) {
@@ -36,12 +48,15 @@ std::string slurp(const std::string& path) {
 
 std::string quoted(const std::string& word) { return "'" + word + "'"; }
 
-CommandOutcome run_gridscope(const std::string& args, const std::string& prefix) {
+CommandOutcome run_command(const std::string& command) {
   const std::string out = temp_path("stdout.txt"), err = temp_path("stderr.txt");
-  const std::string command = "timeout 300 " + prefix + " " + quoted(GRIDSCOPE_BINARY) + " " +
-                              args + " >" + quoted(out) + " 2>" + quoted(err);
-  const int raw = std::system(command.c_str());
+  const std::string limited = "timeout 300 " + command + " >" + quoted(out) + " 2>" + quoted(err);
+  const int raw = std::system(limited.c_str());
   return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
+}
+
+CommandOutcome run_gridscope(const std::string& args, const std::string& prefix) {
+  return run_command(prefix + " " + quoted(GRIDSCOPE_BINARY) + " " + args);
 }
 
 Png load_png(const std::string& path) {

@@ -1,5 +1,5 @@
-// Helpers shared by the test suites: the shared-scenes folder, temporary files, scenes and
-// ray sets made in code, and tracing a ray set through a structure.
+// Helpers shared by the test suites: the assets folder (real scenes), temporary files, scenes
+// and ray sets made in code, and tracing a ray set through a structure.
 #pragma once
 #include <cstdint>
 #include <limits>
@@ -16,8 +16,15 @@ namespace gs::test {
 // A ray file's or hit file's infinity (float records).
 inline constexpr float kInf = std::numeric_limits<float>::infinity();
 
-// Path of a file under ../shared, or "" when ../shared is absent (callers GTEST_SKIP).
-std::string shared_file(const std::string& relative);
+// The folder real scenes are read from: $GRIDSCOPE_ASSETS when set, else the source tree's
+// assets/ (assets/README.md lists its files).
+std::string assets_dir();
+// Path of a scene file in assets_dir(), e.g. "bunny/stanford-bunny.obj", or "" when it is not
+// there (callers GTEST_SKIP with missing_asset's message).
+std::string asset_file(const std::string& relative);
+// Why asset_file(relative) is "": the path looked at and the script that fetches the scenes
+// git does not hold.
+std::string missing_asset(const std::string& relative);
 // A fresh path under the system temp folder; the file is not created.
 std::string temp_path(const std::string& name);
 // The whole file ("" when it cannot be read).
@@ -25,12 +32,14 @@ std::string slurp(const std::string& path);
 // Single-quoted for the shell.
 std::string quoted(const std::string& word);
 
-// Runs `prefix gridscope args` through the shell (args quoted where needed) under a time
-// limit, so a hung program fails its test instead of stalling the suite.
+// Runs a shell command under a time limit, so a hung program fails its test instead of
+// stalling the suite, and collects its exit status and output.
 struct CommandOutcome {
   int status = -1;
   std::string out, err;
 };
+CommandOutcome run_command(const std::string& command);
+// Runs `prefix gridscope args` (args quoted where needed) with run_command.
 CommandOutcome run_gridscope(const std::string& args, const std::string& prefix = "");
 
 // A PNG decoded to RGBA8 (empty when it cannot be read).
