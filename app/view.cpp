@@ -20,7 +20,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "app/cli.h"
+#include "app/flags.h"
 #include "app/gl/frame.h"
 #include "app/gl/imgui_renderer.h"
 #include "app/gl/window.h"
