@@ -127,8 +127,8 @@ Parser trace_parser() {
                1, 1000, job->repeat),
       {"--walk", "I",
        "re-traces ray I after the run with the traversal's recorder (grid1d; needs --walk-out)",
-       [job](const std::string& v) {
-         job->walk_ray = parse_int("--walk", v, 0, std::numeric_limits<int>::max());
+       [&walk_ray = job->walk_ray](const std::string& v) {
+         walk_ray = parse_int("--walk", v, 0, std::numeric_limits<int>::max());
        }},
       string_flag("--walk-out", "FILE.json", "where --walk writes the ray's walk, cell by cell",
                   job->walk_path),
@@ -157,8 +157,7 @@ Parser render_parser() {
   auto job = std::make_shared<RenderJob>();
   Flags flags = {
       string_flag("--out", "FILE.png", "the image to write", job->out_path),
-      size_flag("--size", "the image size (default 640x480)", job->settings.width,
-                job->settings.height),
+      size_flag("--size", "the image size", job->settings.width, job->settings.height),
       camera_flag(job->camera),
       spp_flag(job->settings.spp),
       bounces_flag(job->settings.bounces),
@@ -188,14 +187,13 @@ Parser shot_parser() {
   auto job = std::make_shared<ShotJob>();
   Flags flags = {
       string_flag("--out", "FILE.png", "the frame to write", job->out_path),
-      size_flag("--size", "the image size (default 640x480)", job->settings.width,
-                job->settings.height),
+      size_flag("--size", "the image size", job->settings.width, job->settings.height),
       camera_flag(job->camera),
       spp_flag(job->settings.spp),
       bounces_flag(job->settings.bounces),
       overlay_flag(job->overlays),
       {"--pixel", "X,Y", "the pixel whose walk the walk overlay shows (default: the centre)",
-       [job](const std::string& v) { job->pixel = parse_pixel(v); }},
+       [&pixel = job->pixel](const std::string& v) { pixel = parse_pixel(v); }},
       switch_flag("--ui", "draws the viewer's statistics panel over the frame", job->ui),
       accel_flag(job->accel),
   };
@@ -216,14 +214,14 @@ Parser view_parser() {
   auto job = std::make_shared<ViewJob>();
   Flags flags = {
       camera_flag(job->camera),
-      size_flag("--size", "the window size (default 1280x800)", job->width, job->height),
+      size_flag("--size", "the window size", job->width, job->height),
       accel_flag(job->accel),
       overlay_flag(job->overlays),
       int_flag("--frames", "draws at least N frames and the first full-resolution pass, then exits",
                1, 1000000, job->frames),
       {"--click", "X,Y",
        "clicks that point of the viewport (fractions 0..1) once that pass is done",
-       [job](const std::string& v) { job->click = parse_click(v); }},
+       [&click = job->click](const std::string& v) { click = parse_click(v); }},
       string_flag("--walk-out", "FILE.json", "writes the clicked pixel's walk (needs --click)",
                   job->walk_out),
       string_flag("--screenshot", "FILE.png", "saves the window just before exiting",
@@ -271,8 +269,7 @@ Parser rays_parser() {
   auto job = std::make_shared<Job>();
   Flags flags = {
       string_flag("--out", "FILE.rays", "the ray file to write", job->out),
-      size_flag("--size", "the image size (default 640x480)", job->settings.width,
-                job->settings.height),
+      size_flag("--size", "the image size", job->settings.width, job->settings.height),
       camera_flag(job->camera),
   };
   return {std::move(flags), [job](const Words& words) {
@@ -370,7 +367,8 @@ Parser help_parser() {
 
 Parser version_parser() {
   return {{}, [](const Words& words) {
-            no_positionals("--version", words.positionals);
+            if (!words.positionals.empty())
+              throw UsageError("--version takes no argument (got '" + words.positionals[0] + "')");
             return print(version_text() + "\n");
           }};
 }

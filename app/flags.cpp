@@ -131,19 +131,22 @@ Flag switch_flag(std::string name, std::string help, bool& field) {
 }
 
 Flag int_flag(std::string name, std::string help, int lo, int hi, int& field) {
-  return {name, "N", std::move(help) + " (" + std::to_string(lo) + ".." + std::to_string(hi) + ")",
+  return {name, "N",
+          std::move(help) + "; an integer in " + std::to_string(lo) + ".." + std::to_string(hi),
           [name, lo, hi, &field](const std::string& v) { field = parse_int(name, v, lo, hi); }};
 }
 
 Flag seed_flag(uint64_t& seed) {
   return {"--seed", "N",
-          "the seed of the calibration's random scenes (default 1); an integer in 0..2147483647",
+          "the seed of the calibration's random scenes (default " + std::to_string(seed) +
+              "); an integer in 0..2147483647",
           [&seed](const std::string& v) { seed = uint64_t(parse_int("--seed", v, 0, INT32_MAX)); }};
 }
 
 Flag size_flag(std::string name, std::string help, int& width, int& height) {
   const std::string sides = "each side 1.." + std::to_string(kMaxImageSide);
-  return {name, "WxH", std::move(help) + "; " + sides,
+  if (width > 0) help += " (default " + std::to_string(width) + "x" + std::to_string(height) + ")";
+  return {name, "WxH", help + "; " + sides,
           [name, sides, &width, &height](const std::string& text) {
             const size_t x = text.find('x');
             const auto side = [&](const std::string& part) {
@@ -168,14 +171,16 @@ Flag camera_flag(std::optional<Camera>& camera) {
 Flag spp_flag(int& spp) {
   return int_flag("--spp",
                   "samples per pixel: 1 shoots through pixel centres, more are jittered, the same "
-                  "every run (default 1)",
+                  "every run (default " +
+                      std::to_string(spp) + ")",
                   1, kMaxSpp, spp);
 }
 
 Flag bounces_flag(int& bounces) {
   return int_flag("--bounces",
-                  "diffuse bounces per primary hit, each with its own shadow ray; 0 (default) is "
-                  "the paper's workload, a primary and a shadow ray per sample",
+                  "diffuse bounces per primary hit, each with its own shadow ray; 0 is the "
+                  "paper's workload, a primary and a shadow ray per sample (default " +
+                      std::to_string(bounces) + ")",
                   0, kMaxBounces, bounces);
 }
 
@@ -185,9 +190,7 @@ Flag threads_flag(int& threads) {
 
 Flag accel_flag(std::string& accel) {
   return string_flag("--accel", "NAME",
-                     "the structure (default " + accel +
-                         "), one of those listed under "
-                         "\"Structures\"",
+                     "the structure (default " + accel + "), one of those under \"Structures\"",
                      accel);
 }
 
@@ -202,7 +205,8 @@ Flags structure_flags(AccelParams& params) {
   for (const ParamSpec& spec : param_table()) {
     if (!spec.structure_flag) continue;
     flags.push_back(param_flag(params, spec));
-    if (spec.param == Param::subcost) flags.push_back(costs_flag(params));
+    // --costs sets the five cost constants together: listed after them.
+    if (spec.param == std::end(kCostParams)[-1]) flags.push_back(costs_flag(params));
   }
   return flags;
 }

@@ -47,6 +47,7 @@ int parse_int(const std::string& flag, const std::string& text, int lo, int hi);
 Flag string_flag(std::string name, std::string value_name, std::string help, std::string& field);
 Flag switch_flag(std::string name, std::string help, bool& field);
 Flag int_flag(std::string name, std::string help, int lo, int hi, int& field);
+// The flags below name their field's value when they are made as its default.
 Flag seed_flag(uint64_t& seed);
 // WxH, each side 1..kMaxImageSide.
 Flag size_flag(std::string name, std::string help, int& width, int& height);
@@ -54,7 +55,6 @@ Flag camera_flag(std::optional<Camera>& camera);
 Flag spp_flag(int& spp);
 Flag bounces_flag(int& bounces);
 Flag threads_flag(int& threads);
-// Names the default structure: `accel` as it is when the flag is made.
 Flag accel_flag(std::string& accel);
 Flag overlay_flag(OverlaySelection& overlays);
 

@@ -679,18 +679,34 @@ TEST(Cli, EachStructureTakesExactlyTheFlagsItReads) {
   }
 }
 
-// One set of bounds: at the ends of every integer range, a value typed on the command line
-// and the same value set by a program (make_accelerator's check) are both taken or both
-// refused; 0, each structure's own default, is never typed.
+// Values at the ends of a parameter's range (none for a choice or a path).
+std::vector<double> range_ends(const gs::ParamSpec& spec) {
+  switch (spec.kind) {
+    case gs::ParamKind::integer:
+      return {spec.lo - 1, spec.lo, spec.hi, spec.hi + 1};
+    case gs::ParamKind::bytes:
+      return {spec.hi, spec.hi + 1};
+    case gs::ParamKind::number:
+      return {spec.lo - 1, spec.lo, spec.lo + 0.5};
+    default:
+      return {};
+  }
+}
+
+// One set of bounds: at the ends of every range, a value typed on the command line and the
+// same value set by a program (make_accelerator's check) are both taken or both refused; 0,
+// each structure's own default, is never typed.
 TEST(Cli, CommandLineAndCheckParamsTakeTheSameValues) {
+  int compared = 0;
   for (const gs::ParamSpec& spec : gs::param_table()) {
-    if (spec.kind != gs::ParamKind::integer) continue;
     const gs::Structure* reader = nullptr;
     for (const gs::Structure& s : gs::structures())
       if (s.available() && s.use(spec.param) && !reader) reader = &s;
     ASSERT_NE(reader, nullptr) << spec.flag;
-    for (const double value : {spec.lo - 1, spec.lo, spec.hi, spec.hi + 1}) {
+    for (const double value : range_ends(spec)) {
       if (value == 0 && spec.zero_is_default) continue;
+      if (spec.kind == gs::ParamKind::integer && value > std::numeric_limits<int>::max())
+        continue;  // not an int field's value
       gs::AccelParams params;
       gs::set_param(params, spec.param, value);
       bool checked = true;
@@ -699,14 +715,20 @@ TEST(Cli, CommandLineAndCheckParamsTakeTheSameValues) {
       } catch (const gs::UsageError&) {
         checked = false;
       }
+      const std::string typed = spec.kind == gs::ParamKind::number
+                                    ? std::to_string(value)
+                                    : std::to_string(static_cast<long long>(value));
       const std::string line = "trace s.obj --rays r --out h --accel " + reader->name + " " +
-                               std::string(spec.flag) + " " +
-                               std::to_string(static_cast<long long>(value));
+                               std::string(spec.flag) + " " + typed;
       EXPECT_EQ(parses(line), checked) << line;
+      ++compared;
     }
   }
+  EXPECT_GE(compared, 30);
   EXPECT_FALSE(parses("trace s.obj --rays r --out h --accel octree --max-depth 0"));
   EXPECT_FALSE(parses("trace s.obj --rays r --out h --accel uniform --density 0"));
+  EXPECT_TRUE(parses("trace s.obj --rays r --out h --accel octree --max-depth 20"));
+  EXPECT_FALSE(parses("trace s.obj --rays r --out h --accel octree --max-depth 21"));
 }
 
 TEST(Registry, ListsEveryStructureOnceInReportOrderWithItsOwnName) {

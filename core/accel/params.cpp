@@ -17,14 +17,18 @@ namespace {
 
 using P = AccelParams;
 
-constexpr double kIntMax = double(std::numeric_limits<int>::max());
-
-ParamSpec cost(Param param, std::string_view flag, std::string_view key, double P::*field,
-               std::string_view help) {
-  return {param, flag, key, field, ParamKind::number, "X", 0.0, 0.0, false, false, true, help};
+constexpr ParamSpec cost(Param param, std::string_view flag, std::string_view key, double P::*field,
+                         std::string_view help) {
+  return {.param = param,
+          .flag = flag,
+          .key = key,
+          .field = field,
+          .kind = ParamKind::number,
+          .value_name = "X",
+          .help = help};
 }
 
-const std::array<ParamSpec, 14> kTable = {{
+constexpr std::array<ParamSpec, 14> kTable = {{
     cost(Param::intcost, "--intcost", "intcost", &P::intcost,
          "Intcost (§6.2): the cost of one ray/triangle test"),
     cost(Param::repcost, "--repcost", "repcost", &P::repcost,
@@ -35,28 +39,90 @@ const std::array<ParamSpec, 14> kTable = {{
          "Vertcost: the cost of setting a ray up in a subdivided voxel"),
     cost(Param::subcost, "--subcost", "subcost", &P::subcost,
          "Subcost: the cost of sorting one triangle into a voxel's cells"),
-    {Param::max_granularity, "--max-granularity", "max_granularity", &P::max_granularity,
-     ParamKind::integer, "N", 1, kMaxGranularity, false, false, true,
-     "most cells a voxel is cut into (the paper: 20)"},
-    {Param::axis, "--axis", "axis", &P::axis, ParamKind::choice, "alternate|cost", 0, 0, false,
-     false, true, "cut the axes in turn (the paper) or choose each voxel's axis by cost"},
-    {Param::max_depth, "--max-depth", "max_depth", &P::max_depth, ParamKind::integer, "N", 1,
-     kMaxDepth, false, true, true, "tree depth cap"},
-    {Param::leaf_size, "--leaf-size", "leaf_size", &P::leaf_size, ParamKind::integer, "N", 1,
-     kMaxLeafSize, false, true, true, "triangles a node may hold before it is split"},
-    {Param::density, "--density", "density", &P::density, ParamKind::number, "X", 0, 0, true, true,
-     true, "cells per triangle"},
-    {Param::memory_budget, "--memory-budget", "memory_budget", &P::memory_budget, ParamKind::bytes,
-     "BYTES", 0, double(kMaxMemoryBudget), false, false, true,
-     "structure size cap; a voxel or node whose cut would exceed it stays a leaf"},
-    {Param::sample_every, "--sample-every", "sample_every", &P::sample_every, ParamKind::integer,
-     "N", 1, kIntMax, false, false, true, "the sampling pass (§6.5) traces one ray in N"},
-    {Param::build_threads, "--build-threads", "build_threads", &P::build_threads,
-     ParamKind::integer, "N", 0, kMaxThreads, false, false, true,
-     "threads the structure builds with (0: all cores); tracing threads are --threads"},
-    {Param::oracle, "--oracle", "oracle", &P::oracle_path, ParamKind::path, "FILE.hits", 0, 0,
-     false, false, false, "the hit file of an earlier run over the same rays, replayed"},
+    {.param = Param::max_granularity,
+     .flag = "--max-granularity",
+     .key = "max_granularity",
+     .field = &P::max_granularity,
+     .kind = ParamKind::integer,
+     .value_name = "N",
+     .lo = 1,
+     .hi = kMaxGranularity,
+     .help = "most cells a voxel is cut into (the paper: 20)"},
+    {.param = Param::axis,
+     .flag = "--axis",
+     .key = "axis",
+     .field = &P::axis,
+     .kind = ParamKind::choice,
+     .value_name = "alternate|cost",
+     .help = "cut the axes in turn (the paper) or choose each voxel's axis by cost"},
+    {.param = Param::max_depth,
+     .flag = "--max-depth",
+     .key = "max_depth",
+     .field = &P::max_depth,
+     .kind = ParamKind::integer,
+     .value_name = "N",
+     .lo = 1,
+     .hi = kMaxDepth,
+     .zero_is_default = true,
+     .help = "tree depth cap"},
+    {.param = Param::leaf_size,
+     .flag = "--leaf-size",
+     .key = "leaf_size",
+     .field = &P::leaf_size,
+     .kind = ParamKind::integer,
+     .value_name = "N",
+     .lo = 1,
+     .hi = kMaxLeafSize,
+     .zero_is_default = true,
+     .help = "triangles a node may hold before it is split"},
+    {.param = Param::density,
+     .flag = "--density",
+     .key = "density",
+     .field = &P::density,
+     .kind = ParamKind::number,
+     .value_name = "X",
+     .lo_open = true,
+     .zero_is_default = true,
+     .help = "cells per triangle"},
+    {.param = Param::memory_budget,
+     .flag = "--memory-budget",
+     .key = "memory_budget",
+     .field = &P::memory_budget,
+     .kind = ParamKind::bytes,
+     .value_name = "BYTES",
+     .hi = double(kMaxMemoryBudget),
+     .help = "structure size cap; a voxel or node whose cut would exceed it stays a leaf"},
+    {.param = Param::sample_every,
+     .flag = "--sample-every",
+     .key = "sample_every",
+     .field = &P::sample_every,
+     .kind = ParamKind::integer,
+     .value_name = "N",
+     .lo = 1,
+     .hi = double(std::numeric_limits<int>::max()),
+     .help = "the sampling pass (§6.5) traces one ray in N"},
+    {.param = Param::build_threads,
+     .flag = "--build-threads",
+     .key = "build_threads",
+     .field = &P::build_threads,
+     .kind = ParamKind::integer,
+     .value_name = "N",
+     .lo = 0,
+     .hi = kMaxThreads,
+     .help = "threads the structure builds with (0: all cores); tracing threads are --threads"},
+    {.param = Param::oracle,
+     .flag = "--oracle",
+     .key = "oracle",
+     .field = &P::oracle_path,
+     .kind = ParamKind::path,
+     .value_name = "FILE.hits",
+     .structure_flag = false,
+     .help = "the hit file of an earlier run over the same rays, replayed"},
 }};
+// param_spec indexes the table by Param.
+static_assert(std::ranges::all_of(kTable, [](const ParamSpec& spec) {
+  return &spec - kTable.data() == ptrdiff_t(spec.param);
+}));
 
 std::string number_text(double value) {
   char text[32];
@@ -258,7 +324,7 @@ nlohmann::json AccelParams::to_json() const {
     const std::string key(spec.key);
     if (spec.kind == ParamKind::choice)
       json[key] = param_text(*this, spec);
-    else if (spec.kind == ParamKind::path)  // null when not given
+    else if (spec.kind == ParamKind::path)  // null when none was given
       json[key] = param_text(*this, spec).empty() ? nlohmann::json(nullptr)
                                                   : nlohmann::json(param_text(*this, spec));
     else
