@@ -17,9 +17,9 @@
 namespace gs {
 namespace {
 
-template <class Structure>
+template <class Kind>
 std::unique_ptr<Accelerator> make(const AccelParams& params) {
-  return std::make_unique<Structure>(params);
+  return std::make_unique<Kind>(params);
 }
 
 std::unique_ptr<Accelerator> make_brute(const AccelParams&) {
