@@ -1,4 +1,4 @@
-// The `bench` command's outputs (issue 4): runs core/bench.h's protocol and writes
+// The `bench` command's outputs: runs bench/bench.h's protocol and writes
 // results.json, report.md and the PNG plots into one directory.
 #pragma once
 #include <string>

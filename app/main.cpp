@@ -1,4 +1,4 @@
-// Maps the outcome of a command to the exit status and the one stderr line DESIGN.md §3
+// Maps the outcome of a command to the exit status and the one stderr line README "Usage"
 // promises: 0 success, 1 bad input or a failed run, 2 a usage error. Nothing escapes main.
 #include <algorithm>
 #include <cstdio>

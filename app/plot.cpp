@@ -14,6 +14,7 @@
 #include "app/gl/headless.h"
 #include "app/gl/imgui_renderer.h"
 #include "bench/report.h"
+#include "core/accel/registry.h"
 #include "core/render/render.h"
 
 namespace gs::app {
@@ -345,7 +346,7 @@ std::pair<double, double> value_range(const BarChart& chart) {
 // null); false when no bar has a value.
 bool fill_bars(const json& records, const BarValue& bar_of, BarChart& chart) {
   const std::vector<std::string> scenes = record_scenes(records);
-  for (std::string_view accel : kReportStructures)
+  for (std::string_view accel : report_structures())
     if (std::ranges::any_of(scenes,
                             [&](const std::string& s) { return bar_of(s, accel).has_value(); }))
       chart.structures.push_back(accel);
@@ -492,7 +493,7 @@ bool rmse_plot(const json& records, const std::string& path) {
   std::vector<std::string_view> structures;
   for (const std::string& scene : record_scenes(records)) {
     std::vector<Series> lines;
-    for (std::string_view accel : kReportStructures)
+    for (std::string_view accel : report_structures())
       if (const json* r = convergence_record(records, scene, accel))
         if (auto points = convergence_points(*r); !points.empty())
           lines.push_back({accel, -1, std::move(points)});
@@ -502,7 +503,7 @@ bool rmse_plot(const json& records, const std::string& path) {
   }
   if (scenes.empty()) return false;
   std::ranges::sort(structures, {}, [](std::string_view a) {
-    return std::ranges::find(kReportStructures, a) - kReportStructures.begin();
+    return std::ranges::find(report_structures(), a) - report_structures().begin();
   });
   const ImVec2 cell(float(kPlotWidth) / kColumns, 330);
   const int rows = int((scenes.size() + kColumns - 1) / kColumns);
@@ -543,8 +544,8 @@ std::vector<Sweep> collect_sweeps(const json& records) {
   for (const json& r : records) {
     const auto value = record_number(r, "sweep_value");
     const std::string accel = record_text(r, "accel"), parameter = record_text(r, "sweep_param");
-    const auto known = std::ranges::find(kReportStructures, accel);
-    if (record_text(r, "workload") != "sweep" || !value || known == kReportStructures.end())
+    const auto known = std::ranges::find(report_structures(), accel);
+    if (record_text(r, "workload") != "sweep" || !value || known == report_structures().end())
       continue;
     auto [it, fresh] = index.try_emplace({accel, parameter}, sweeps.size());
     if (fresh) sweeps.push_back({*known, parameter, {}, {}, {}});
@@ -616,19 +617,8 @@ bool sweep_plot(const json& records, const std::string& path) {
 }  // namespace
 
 std::array<uint8_t, 3> structure_colour(std::string_view accel) {
-  // One hue per structure, the paper's four first (Tableau's categorical palette).
-  constexpr std::array<std::array<uint8_t, 3>, kReportStructures.size()> kColours = {{
-      {31, 119, 180},   // uniform: blue
-      {255, 127, 14},   // octree: orange
-      {44, 160, 44},    // grid3d: green
-      {214, 39, 40},    // grid1d: red
-      {148, 103, 189},  // bvh: purple
-      {140, 86, 75},    // embree: brown
-      {23, 190, 207},   // brute: cyan
-  }};
-  const auto it = std::ranges::find(kReportStructures, accel);
-  return it == kReportStructures.end() ? std::array<uint8_t, 3>{127, 127, 127}
-                                       : kColours[size_t(it - kReportStructures.begin())];
+  const Structure* structure = find_structure(accel);
+  return structure ? structure->colour : std::array<uint8_t, 3>{127, 127, 127};
 }
 
 std::vector<std::string> write_bench_plots(const json& records, const std::string& out_dir) {

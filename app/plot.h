@@ -1,4 +1,4 @@
-// The benchmark's PNG plots (issue 4), made from the same records as report.md. They are
+// The benchmark's PNG plots, made from the same records as report.md. They are
 // drawn with Dear ImGui's draw lists (its font gives the text) into an OSMesa headless
 // context through our ImGui renderer and read back, so they need no display and no plotting
 // library. Each structure keeps one colour in every plot.
@@ -16,7 +16,7 @@ namespace gs::app {
 inline constexpr int kPlotWidth = 1200;
 inline constexpr int kBarPlotHeight = 600;
 
-// A structure's colour in every plot (RGB); grey for a name outside kReportStructures.
+// A structure's colour in every plot (RGB), the registry's; grey for a name it does not know.
 std::array<uint8_t, 3> structure_colour(std::string_view accel);
 
 // Writes into the existing folder `out_dir` each plot the records hold data for, and

@@ -13,6 +13,7 @@
 
 #include "bench/calibrate.h"
 #include "bench/scenes.h"
+#include "core/accel/registry.h"
 #include "core/accel/zero_overhead.h"
 #include "core/base/error.h"
 #include "core/base/timing.h"
@@ -41,54 +42,6 @@ struct Protocol {
 Protocol protocol_for(bool quick) {
   if (quick) return {256, 3, 96, 2, 96, 6, 2.0, {"lumpy"}};
   return {512, 5, 192, 3, 192, 16, 10.0, {"lumpy", "bunny-sibenik", "dragon"}};
-}
-
-const std::vector<std::string> kStructures = {"uniform", "octree", "grid3d",
-                                              "grid1d",  "bvh",    "embree"};
-
-// One structure parameter and the values its sweep takes (one at a time, the others at their
-// defaults): the same treatment for every structure, so that no baseline is left at a weak
-// setting (issue 4, "fair baselines").
-struct SweepAxis {
-  std::string param;
-  std::vector<double> values;
-};
-
-std::vector<SweepAxis> sweep_axes(const std::string& accel) {
-  if (accel == "uniform") return {{"density", {0.125, 0.25, 0.5, 1, 2, 4, 8}}};
-  if (accel == "octree")
-    return {{"max_depth", {4, 5, 6, 7, 8, 10}}, {"leaf_size", {1, 2, 4, 8, 16}}};
-  if (accel == "grid3d") return {{"max_depth", {1, 2, 3, 4}}, {"leaf_size", {4, 8, 16, 32, 64}}};
-  if (accel == "bvh") return {{"leaf_size", {1, 2, 4, 8, 16}}};
-  if (accel == "grid1d")
-    return {{"max_granularity", {2, 4, 8, 20, 32, 64}},
-            {"intcost", {0.5, 2}},
-            {"repcost", {0.1, 0.4}},
-            {"travcost", {0.5, 2}},
-            {"vertcost", {3, 12}},
-            {"subcost", {1, 4}}};
-  return {};
-}
-
-void set_param(AccelParams& params, const std::string& name, double value) {
-  if (name == "density")
-    params.density = value;
-  else if (name == "max_depth")
-    params.max_depth = int(value);
-  else if (name == "leaf_size")
-    params.leaf_size = int(value);
-  else if (name == "max_granularity")
-    params.max_granularity = int(value);
-  else if (name == "intcost")
-    params.intcost = value;
-  else if (name == "repcost")
-    params.repcost = value;
-  else if (name == "travcost")
-    params.travcost = value;
-  else if (name == "vertcost")
-    params.vertcost = value;
-  else if (name == "subcost")
-    params.subcost = value;
 }
 
 std::string first_line_of(const std::string& command) {
@@ -364,7 +317,7 @@ std::string format_progress(const json& record, double elapsed) {
 }
 
 // The progressive renderer's error against its own converged image over wall time, from the
-// start of the build (issue 4, "run time against error"): a correct structure reaches zero
+// start of the build (run time against error): a correct structure reaches zero
 // error at the last pass, a faster one sooner.
 class Convergence {
  public:
@@ -423,21 +376,19 @@ class BenchRun {
     run_.repetitions = protocol_.repetitions;
     run_.quick = options.quick;
     accels_ = options.accels;
-    if (accels_.empty()) {
-      const std::vector<std::string> built = accelerator_names();
-      for (const std::string& name : kStructures)
-        if (std::find(built.begin(), built.end(), name) != built.end()) accels_.push_back(name);
-    }
+    if (accels_.empty())
+      for (const std::string& name : bench_structures())
+        if (find_structure(name)->available()) accels_.push_back(name);
   }
 
   json run() {
     calibrate_constants();
-    const std::string shared =
-        options_.shared_dir.empty() ? find_assets_dir() : options_.shared_dir;
+    const std::string assets =
+        options_.assets_dir.empty() ? find_assets_dir() : options_.assets_dir;
     for (const std::string& name :
          options_.scenes.empty() ? bench_suite(options_.quick) : options_.scenes) {
       std::string skipped;
-      const std::optional<BenchScene> bench = load_bench_scene(name, shared, skipped);
+      const std::optional<BenchScene> bench = load_bench_scene(name, assets, skipped);
       if (bench)
         run_scene(*bench);
       else
@@ -550,14 +501,14 @@ class BenchRun {
   void run_sweeps(const BenchScene& bench) {
     for (const std::string& accel : accels_) {
       std::optional<std::pair<double, AccelParams>> best;
-      for (const SweepAxis& axis : sweep_axes(accel))
+      for (const SweepAxis& axis : find_structure(accel)->sweep)
         for (const double value : axis.values) {
           Config point = config(bench, accel, protocol_.sweep_side, 1, 0);
           point.repetitions = protocol_.sweep_repetitions;
           point.time_cap = protocol_.time_cap / 4;
           set_param(point.params, axis.param, value);
           Measurement m = measure(run_, point, "sweep", "sweep", nullptr);
-          m.record["sweep_param"] = axis.param;
+          m.record["sweep_param"] = param_spec(axis.param).key;
           m.record["sweep_value"] = value;
           const double seconds = m.record["trace_seconds"].get<double>();
           if (!m.record["over_time_cap"].get<bool>() && (!best || seconds < best->first))
@@ -598,11 +549,17 @@ class BenchRun {
 
 }  // namespace
 
+std::vector<std::string> bench_structures() {
+  std::vector<std::string> names;
+  for (const Structure& structure : structures())
+    if (structure.group != StructureGroup::reference) names.push_back(structure.name);
+  return names;
+}
+
 void check_bench_options(const BenchOptions& options) {
-  const std::vector<std::string> built = accelerator_names();
+  const std::vector<std::string> benched = bench_structures();
   for (const std::string& accel : options.accels)
-    if (std::find(kStructures.begin(), kStructures.end(), accel) == kStructures.end() ||
-        std::find(built.begin(), built.end(), accel) == built.end())
+    if (std::ranges::find(benched, accel) == benched.end() || !find_structure(accel)->available())
       throw UsageError("--accels: '" + accel + "' is not a structure this build can bench");
   check_thread_count(options.threads);
 }

@@ -1,4 +1,4 @@
-// `gridscope bench` (issue 4): the paper's experiment (section 7, Figure 12) redone for every
+// `gridscope bench`: the paper's experiment (section 7, Figure 12) redone for every
 // structure, plus the modern ones, as run time against error.
 //
 // Protocol: per scene, structure, thread count (1 and all cores) and workload
@@ -29,13 +29,17 @@ struct BenchOptions {
   bool quick = false;                    // smaller images, fewer repetitions, built-in scenes only
   uint64_t seed = 1;                     // calibration's random scenes
   int threads = default_thread_count();  // the "all cores" thread count
-  std::string shared_dir;                // ../shared; empty: find_shared_dir()
+  std::string assets_dir;                // the scene files' folder; empty: find_shared_dir()
   // When set, each scene's reference image (primary and shadow rays) is written there as
   // scene-LABEL.png, so that a reader sees what was measured.
   std::string image_dir;
   // Called with one line per finished measurement (the progress line).
   std::function<void(const std::string&)> progress;
 };
+
+// The structures the bench measures (the paper's and the modern ones of the registry), in
+// report order, this build's or not.
+std::vector<std::string> bench_structures();
 
 // Throws UsageError for an unknown structure or scene name before measuring anything.
 void check_bench_options(const BenchOptions& options);

@@ -1,11 +1,14 @@
 #include "bench/report.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <set>
+
+#include "core/accel/registry.h"
 
 namespace gs {
 
@@ -18,11 +21,13 @@ constexpr const char* kNotMeasured = "n/a";
 constexpr const char* kCapMark = "†";
 
 // The structures the paper compared the 1D grid with (§7); its claim is about these.
-constexpr std::array<std::string_view, 3> kPaperRivals = {"uniform", "octree", "grid3d"};
+std::vector<std::string_view> paper_rivals() {
+  std::vector<std::string_view> rivals = structure_names(StructureGroup::paper);
+  std::erase(rivals, "grid1d");
+  return rivals;
+}
 // The scenes of the paper's Figure 12 (§7.1); bench scenes stand for them through "role".
 constexpr std::array<const char*, 5> kPaperScenes = {"pyramid", "lumpy", "drum", "trike", "car"};
-// The modern references, compared with but not part of the paper's claim.
-constexpr std::array<std::string_view, 2> kModern = {"bvh", "embree"};
 // Warm medians on a shared machine still move by a few percent: within this the discussion
 // calls two times a tie (the targets' verdicts stay strict).
 constexpr double kTie = 0.03;
@@ -52,9 +57,8 @@ const json* best_record(const json& records, const std::string& scene, std::stri
 }
 
 // The fastest of `accels` at their best settings on one scene, or nullptr.
-template <size_t N>
 const json* fastest_best(const json& records, const std::string& scene,
-                         const std::array<std::string_view, N>& accels) {
+                         const std::vector<std::string_view>& accels) {
   const json* winner = nullptr;
   for (std::string_view accel : accels) winner = faster(winner, best_record(records, scene, accel));
   return winner;
@@ -77,7 +81,7 @@ SceneInfo scene_info(const json& records, const std::string& scene) {
 // Structures with at least one record, in report order.
 std::vector<std::string_view> structures_run(const json& records) {
   std::vector<std::string_view> run;
-  for (std::string_view accel : kReportStructures)
+  for (std::string_view accel : report_structures())
     for (const json& record : records)
       if (record.is_object() && record_text(record, "accel") == accel) {
         run.push_back(accel);
@@ -285,7 +289,7 @@ std::vector<std::string> parameter_changes(const json& best, const json* standar
 std::string best_settings_list(const json& records) {
   std::vector<std::string> lines;
   for (const std::string& scene : record_scenes(records))
-    for (std::string_view accel : kReportStructures) {
+    for (std::string_view accel : report_structures()) {
       const json* best = best_record(records, scene, accel);
       if (!best || record_text(*best, "setting") != "best") continue;
       const auto changes = parameter_changes(*best, find_record(records, {scene, accel}));
@@ -367,7 +371,7 @@ std::string verdict(const std::string& target, const std::vector<SceneCheck>& ch
 
 SceneCheck paper_claim_check(const json& records, const std::string& scene) {
   const json* grid = best_record(records, scene, "grid1d");
-  const json* rival = fastest_best(records, scene, kPaperRivals);
+  const json* rival = fastest_best(records, scene, paper_rivals());
   if (!trace_time(grid)) return {scene, std::nullopt, "grid1d not measured"};
   if (!trace_time(rival)) return {scene, std::nullopt, "none of uniform, octree, grid3d measured"};
   return {scene, *trace_time(grid) <= *trace_time(rival),
@@ -642,7 +646,7 @@ std::string outcome_sentence(const json& grid, const json& rival, int outcome, d
 
 std::string modern_sentence(const json& records, const std::string& scene, double grid_time) {
   std::vector<std::string> parts;
-  for (std::string_view accel : kModern) {
+  for (std::string_view accel : structure_names(StructureGroup::modern)) {
     const json* record = best_record(records, scene, accel);
     if (!trace_time(record)) continue;
     parts.push_back(std::string(accel) + " " + speed_text(*record) + " (" +
@@ -662,7 +666,7 @@ std::string discuss_scene(const json& records, const std::string& scene) {
     out += " (role: " + info.role + ")";
   out += ": ";
   const json* grid = best_record(records, scene, "grid1d");
-  const json* rival = fastest_best(records, scene, kPaperRivals);
+  const json* rival = fastest_best(records, scene, paper_rivals());
   if (!trace_time(grid)) return out + "grid1d not measured.\n";
   if (!trace_time(rival)) {
     out += "none of uniform, octree, grid3d measured.";
@@ -728,7 +732,7 @@ std::string header(const json& records) {
 
 std::string not_run_section(const json& records) {
   std::vector<std::string> lines;
-  for (std::string_view accel : kReportStructures)
+  for (std::string_view accel : report_structures())
     if (!was_run(records, accel))
       lines.push_back(
           "- structure " + std::string(accel) +
@@ -791,6 +795,16 @@ const json* find_record(const json& records, const RecordKey& key) {
         record_number(record, "threads") == double(key.threads))
       return &record;
   return nullptr;
+}
+
+const std::vector<std::string_view>& report_structures() {
+  static const std::vector<std::string_view> names = [] {
+    std::vector<std::string_view> list;
+    for (const Structure& structure : structures())
+      if (!structure.needs_oracle) list.push_back(structure.name);
+    return list;
+  }();
+  return names;
 }
 
 std::vector<std::string> record_scenes(const json& records) {

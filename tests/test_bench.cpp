@@ -55,7 +55,7 @@ class BenchRunTest : public ::testing::Test {
     options.accels = {"bvh", "uniform"};
     options.quick = true;
     options.threads = 2;
-    options.shared_dir = "/nonexistent-shared";
+    options.assets_dir = "/nonexistent-shared";
     records_ = new json(run_bench(options));
   }
   static void TearDownTestSuite() {

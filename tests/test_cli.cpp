@@ -10,12 +10,17 @@
 #include <fstream>
 #include <glm/geometric.hpp>
 #include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "app/cli.h"
+#include "core/accel/registry.h"
+#include "core/base/error.h"
 #include "core/geometry/ray_io.h"
 #include "core/render/render.h"
 #include "tests/test_util.h"
@@ -507,6 +512,234 @@ TEST(Cli, RenderIsDeterministic) {
   }
   EXPECT_TRUE(images[0] == images[1]);
   EXPECT_TRUE(images[1] == images[2]);
+}
+
+// ---- Help, --version and the structure registry -----------------------------------------
+
+// Whether `text` names `flag` as a whole word: "--walk" is not named by "--walk-out".
+bool names(const std::string& text, const std::string& flag) {
+  for (size_t at = text.find(flag); at != std::string::npos; at = text.find(flag, at + 1)) {
+    const size_t end = at + flag.size();
+    if (end == text.size() || !(std::isalnum(static_cast<unsigned char>(text[end])) ||
+                                text[end] == '-' || text[end] == '_'))
+      return true;
+  }
+  return false;
+}
+
+// Every flag every command's parser takes (the command list itself, not a hand list) is in
+// `gridscope help`, in `gridscope COMMAND --help` and in README.md; so is every command.
+TEST(Help, NamesEveryFlagOfEveryCommandAndReadmeDoesToo) {
+  const Outcome help = run("help");
+  ASSERT_EQ(help.status, 0) << help.err;
+  const std::string readme = slurp(GRIDSCOPE_README);
+  ASSERT_FALSE(readme.empty()) << GRIDSCOPE_README;
+  const std::vector<gs::app::CommandFlags> commands = gs::app::command_flags();
+  ASSERT_GE(commands.size(), 10u);
+  size_t flags = 0;
+  for (const gs::app::CommandFlags& command : commands) {
+    const std::string synopsis = "gridscope " + command.command;
+    EXPECT_TRUE(names(help.out, synopsis)) << synopsis;
+    EXPECT_TRUE(names(readme, synopsis)) << synopsis << " is not in README.md";
+    const Outcome own = run(command.command + " --help");
+    ASSERT_EQ(own.status, 0) << command.command << ": " << own.err;
+    for (const std::string& flag : command.flags) {
+      EXPECT_TRUE(names(help.out, flag)) << flag << " of " << command.command << " not in help";
+      EXPECT_TRUE(names(own.out, flag)) << flag << " not in " << command.command << " --help";
+      EXPECT_TRUE(names(readme, flag)) << flag << " of " << command.command << " not in README";
+      ++flags;
+    }
+  }
+  EXPECT_GE(flags, 80u);  // the structure flags alone are 14 for each of 4 commands
+}
+
+TEST(Help, CommandHelpPrintsThatCommandAlone) {
+  const Outcome trace = run("trace --help");
+  ASSERT_EQ(trace.status, 0) << trace.err;
+  EXPECT_EQ(trace.out.rfind("gridscope trace SCENE --rays FILE --out FILE", 0), 0u) << trace.out;
+  for (const char* other : {"render", "shot", "view", "export", "rays", "bench", "calibrate"})
+    EXPECT_FALSE(names(trace.out, std::string("gridscope ") + other)) << other;
+  EXPECT_TRUE(names(trace.out, "--sample-image"));
+  EXPECT_TRUE(names(trace.out, "--oracle"));
+  EXPECT_FALSE(names(trace.out, "--bounces"));  // render's and shot's, not trace's
+  EXPECT_EQ(run("help trace").out, trace.out);
+  // A command without structure flags lists none, nor the structures.
+  const Outcome rays = run("rays --help");
+  ASSERT_EQ(rays.status, 0);
+  EXPECT_FALSE(names(rays.out, "--intcost"));
+  EXPECT_FALSE(names(rays.out, "--accel"));
+  expect_failure(run("help frobnicate"), 2, "frobnicate");
+}
+
+// The defaults and caps the structures' headers and README give (octree.h, grid3d.h, bvh.h,
+// grid1d.h), as `render --help` reports them for the flags the structures read.
+TEST(Help, StructureFlagsNameTheirReadersAndDefaults) {
+  const Outcome help = run("render --help");
+  ASSERT_EQ(help.status, 0);
+  std::string text = help.out;  // one line per flag entry: unwrap the continuation lines
+  text = std::regex_replace(text, std::regex("\n {28}"), " ");
+  const auto line_of = [&](const std::string& flag) {
+    const size_t at = text.find("\n  " + flag + " ");
+    if (at == std::string::npos) return std::string();
+    return text.substr(at + 1, text.find('\n', at + 1) - at - 1);
+  };
+  const std::string leaf = line_of("--leaf-size");
+  for (const char* reader : {"octree (default 4)", "grid3d (default 16)", "bvh (default 4)"})
+    EXPECT_NE(leaf.find(reader), std::string::npos) << reader << " in: " << leaf;
+  EXPECT_EQ(leaf.find("grid1d"), std::string::npos) << leaf;
+  const std::string depth = line_of("--max-depth");
+  for (const char* reader : {"octree (default 6, at most 20)", "grid3d (default 3, at most 16)",
+                             "grid1d (default 32)", "bvh (default 64)"})
+    EXPECT_NE(depth.find(reader), std::string::npos) << reader << " in: " << depth;
+  EXPECT_NE(line_of("--density").find("Read by uniform (default"), std::string::npos);
+  EXPECT_NE(line_of("--build-threads").find("Read by embree (default 0)"), std::string::npos);
+  EXPECT_NE(line_of("--memory-budget").find("(default 8G)"), std::string::npos);
+  EXPECT_NE(line_of("--costs").find("Read by grid1d."), std::string::npos);
+}
+
+TEST(Cli, VersionPrintsTheVersionAndTheCommit) {
+  const Outcome result = run("--version");
+  ASSERT_EQ(result.status, 0) << result.err;
+  const std::regex line("gridscope " +
+                        std::regex_replace(GRIDSCOPE_VERSION, std::regex("\\."), "\\.") +
+                        " \\(commit ([0-9a-f]{40}|unknown)\\)\n");
+  EXPECT_TRUE(std::regex_match(result.out, line)) << result.out;
+  expect_failure(run("--version extra"), 2, "extra");
+}
+
+// Which structure reads which flag, from the structures' own code (the parameters each
+// constructor and cost model takes): a flag another structure reads is refused by name.
+TEST(Cli, StructureFlagTheStructureDoesNotReadIsExitTwo) {
+  const std::string render =
+      "render builtin:pyramid --size 8x8 --out " + quoted(temp_path("r.png"));
+  expect_failure(run(render + " --density 2"), 2, "--density: structure 'grid1d' does not use it");
+  expect_failure(run(render + " --accel uniform --max-granularity 8"), 2,
+                 "--max-granularity: structure 'uniform' does not use it");
+  expect_failure(run(render + " --accel bvh --oracle " + quoted(temp_path("x.hits"))), 2,
+                 "--oracle: structure 'bvh' does not use it");
+  const std::string costs = temp_path("ignored-costs.json");
+  spit(costs, R"({"intcost": 2, "repcost": 0.5, "travcost": 3, "vertcost": 4, "subcost": 5})");
+  expect_failure(run(render + " --accel octree --costs " + quoted(costs)), 2,
+                 "--costs: structure 'octree' does not use it");
+  const std::string stats = temp_path("density.json");
+  const Outcome read = run(render + " --accel uniform --density 2 --stats " + quoted(stats));
+  ASSERT_EQ(read.status, 0) << read.err;
+  EXPECT_EQ(nlohmann::json::parse(slurp(stats))["parameters"]["density"], 2.0);
+}
+
+std::vector<std::string> words_of(const std::string& line) {
+  std::istringstream in(line);
+  std::vector<std::string> words;
+  for (std::string word; in >> word;) words.push_back(word);
+  return words;
+}
+
+// Whether parse_cli takes the command line (it reads no file but --costs's).
+bool parses(const std::string& line) {
+  try {
+    gs::app::parse_cli(words_of(line));
+    return true;
+  } catch (const gs::UsageError&) {
+    return false;
+  }
+}
+
+TEST(Cli, EachStructureTakesExactlyTheFlagsItReads) {
+  const std::string costs = temp_path("reader-costs.json");
+  spit(costs, R"({"intcost": 2, "repcost": 0.5, "travcost": 3, "vertcost": 4, "subcost": 5})");
+  const std::map<std::string, std::string> value = {
+      {"--intcost", "2"},         {"--repcost", "0.5"},     {"--travcost", "2"},
+      {"--vertcost", "3"},        {"--subcost", "1"},       {"--costs", costs},
+      {"--max-granularity", "8"}, {"--axis", "cost"},       {"--max-depth", "3"},
+      {"--leaf-size", "2"},       {"--density", "0.5"},     {"--memory-budget", "1M"},
+      {"--sample-every", "4"},    {"--build-threads", "1"}, {"--oracle", "x.hits"}};
+  const std::vector<std::string> grid1d = {"--intcost",         "--repcost",     "--travcost",
+                                           "--vertcost",        "--subcost",     "--costs",
+                                           "--max-granularity", "--axis",        "--max-depth",
+                                           "--memory-budget",   "--sample-every"};
+  const std::vector<std::string> tree = {"--max-depth", "--leaf-size", "--memory-budget"};
+  const std::map<std::string, std::vector<std::string>> reads = {
+      {"grid1d", grid1d},    {"uniform", {"--density", "--memory-budget"}},
+      {"octree", tree},      {"grid3d", tree},
+      {"bvh", tree},         {"embree", {"--build-threads"}},
+      {"zero", {"--oracle"}}};
+  const std::vector<std::string> names = gs::accelerator_names();
+  for (const gs::app::CommandFlags& command : gs::app::command_flags()) {
+    if (command.command != "trace") continue;
+    for (const std::string& flag : command.flags) {
+      if (!gs::find_param(flag) && flag != "--costs") continue;
+      ASSERT_TRUE(value.contains(flag)) << "no test value for structure flag " << flag;
+      for (const std::string& accel : names) {
+        const std::string line =
+            "trace s.obj --rays r --out h --accel " + accel + " " + flag + " " + value.at(flag);
+        const bool reader = accel == "brute" || std::ranges::count(reads.at(accel), flag) > 0;
+        EXPECT_EQ(parses(line), reader) << line;
+      }
+    }
+  }
+}
+
+// Values at the ends of a parameter's range (none for a choice or a path).
+std::vector<double> range_ends(const gs::ParamSpec& spec) {
+  switch (spec.kind) {
+    case gs::ParamKind::integer:
+      return {spec.lo - 1, spec.lo, spec.hi, spec.hi + 1};
+    case gs::ParamKind::bytes:
+      return {spec.hi, spec.hi + 1};
+    case gs::ParamKind::number:
+      return {spec.lo - 1, spec.lo, spec.lo + 0.5};
+    default:
+      return {};
+  }
+}
+
+// One set of bounds: at the ends of every range, a value typed on the command line and the
+// same value set by a program (make_accelerator's check) are both taken or both refused; 0,
+// each structure's own default, is never typed.
+TEST(Cli, CommandLineAndCheckParamsTakeTheSameValues) {
+  int compared = 0;
+  for (const gs::ParamSpec& spec : gs::param_table()) {
+    const gs::Structure* reader = nullptr;
+    for (const gs::Structure& s : gs::structures())
+      if (s.available() && s.use(spec.param) && !reader) reader = &s;
+    ASSERT_NE(reader, nullptr) << spec.flag;
+    for (const double value : range_ends(spec)) {
+      if (value == 0 && spec.zero_is_default) continue;
+      if (spec.kind == gs::ParamKind::integer && value > std::numeric_limits<int>::max())
+        continue;  // not an int field's value
+      gs::AccelParams params;
+      gs::set_param(params, spec.param, value);
+      bool checked = true;
+      try {
+        gs::check_params(reader->name, params);
+      } catch (const gs::UsageError&) {
+        checked = false;
+      }
+      const std::string typed = spec.kind == gs::ParamKind::number
+                                    ? std::to_string(value)
+                                    : std::to_string(static_cast<long long>(value));
+      const std::string line = "trace s.obj --rays r --out h --accel " + reader->name + " " +
+                               std::string(spec.flag) + " " + typed;
+      EXPECT_EQ(parses(line), checked) << line;
+      ++compared;
+    }
+  }
+  EXPECT_GE(compared, 30);
+  EXPECT_FALSE(parses("trace s.obj --rays r --out h --accel octree --max-depth 0"));
+  EXPECT_FALSE(parses("trace s.obj --rays r --out h --accel uniform --density 0"));
+  EXPECT_TRUE(parses("trace s.obj --rays r --out h --accel octree --max-depth 20"));
+  EXPECT_FALSE(parses("trace s.obj --rays r --out h --accel octree --max-depth 21"));
+}
+
+TEST(Registry, ListsEveryStructureOnceInReportOrderWithItsOwnName) {
+  std::vector<std::string> expected = {"uniform", "octree", "grid3d", "grid1d", "bvh"};
+  const std::vector<std::string> names = gs::accelerator_names();
+  if (std::ranges::count(names, "embree")) expected.push_back("embree");
+  expected.insert(expected.end(), {"brute", "zero"});
+  EXPECT_EQ(names, expected);
+  gs::AccelParams params;
+  params.oracle_path = "x.hits";  // zero is made with its oracle's path, read at build
+  for (const std::string& name : names) EXPECT_EQ(gs::make_accelerator(name, params)->name(), name);
 }
 
 }  // namespace

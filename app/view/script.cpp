@@ -6,7 +6,7 @@
 #include <sstream>
 #include <utility>
 
-#include "app/cli.h"
+#include "app/flags.h"
 #include "app/view/output.h"
 #include "app/view/state.h"
 #include "app/view/view.h"

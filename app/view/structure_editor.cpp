@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-#include "app/cli.h"
+#include "app/flags.h"
 #include "app/view/state.h"
 #include "core/base/error.h"
 

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/accel/params.h"
 #include "core/accel/walk.h"
 #include "core/geometry/ray.h"
 #include "core/scene/scene.h"
@@ -17,49 +18,6 @@
 namespace gs {
 
 class Grid1D;
-
-enum class AxisRule { alternate, cost };
-
-// Parameter ranges (README "Limits"), checked in one place, make_accelerator, so that a bad
-// value is a one-line usage error whoever sets it (CLI, viewer, tests). Granularity times
-// depth cannot explode: grid1d caps each axis's absolute granularity (the product of the
-// g's above a voxel) at 2^50, the octree's depth at 20 (2^20 finest cells per side) and
-// grid3d's at 16, and every structure's memory is bounded by memory_budget.
-inline constexpr int kMaxGranularity = 4096;  // cells one voxel is cut into
-inline constexpr int kMaxDepth = 64;          // tree depth; a structure's own cap may be lower
-inline constexpr int kMaxLeafSize = 1 << 20;
-// Lazy structures reserve (never commit) address space for several arrays of up to the
-// budget each; 1 TiB keeps that within the 128 TiB of an x86-64 process.
-inline constexpr uint64_t kMaxMemoryBudget = uint64_t{1} << 40;
-
-// Every structure parameter, named after the paper (§6.2) where the paper names it.
-// Each run echoes these into its stats.
-struct AccelParams {
-  // Section 6.2 code timings, relative units (calibrated constants come later).
-  double intcost = 1.0;   // one ray/triangle test
-  double repcost = 0.2;   // a mailbox-rejected repeat
-  double travcost = 1.0;  // one cell step
-  double vertcost = 6.0;  // initialising a ray in a subdivided voxel
-  double subcost = 2.0;   // sorting one triangle into a voxel's cells
-  int max_granularity = 20;
-  AxisRule axis = AxisRule::alternate;
-  // Each structure's own limits; 0 means the structure's default (grid1d: depth 32; the
-  // octree, nested grid and BVH document theirs).
-  int max_depth = 0;     // tree depth cap
-  int leaf_size = 0;     // triangles a node may hold before it is split (octree, grid3d, bvh)
-  double density = 0.0;  // uniform grid: cells per triangle (0: the paper's cbrt(N) per side)
-  uint64_t memory_budget = uint64_t{8} << 30;  // bytes of structure, reserved not committed
-  // Sampling pass (§6.5): one sample ray per this many rays of the run.
-  int sample_every = 64;
-  // embree: threads its device builds with (0: all cores). Tracing threads are --threads.
-  int build_threads = 0;
-  // zero: the hit file of an earlier run over the same rays (required by "zero").
-  std::string oracle_path;
-
-  nlohmann::json to_json() const;
-  int depth_or(int fallback) const { return max_depth > 0 ? max_depth : fallback; }
-  int leaf_size_or(int fallback) const { return leaf_size > 0 ? leaf_size : fallback; }
-};
 
 // Counters a tracing thread accumulates; merged by the caller at the end of a run.
 struct TraceCounters {
@@ -145,11 +103,14 @@ class Accelerator {
   virtual const Grid1D* grid1d() const { return nullptr; }
 };
 
+// The structures this build has, in the registry's order (registry.h).
 std::vector<std::string> accelerator_names();
-// Throws UsageError for an unknown name or a parameter out of range (check_params).
+// Throws UsageError for an unknown name, a structure this build lacks, or a parameter out of
+// range (check_params).
 std::unique_ptr<Accelerator> make_accelerator(const std::string& name, const AccelParams& params);
-// Throws UsageError naming the flag when a parameter is outside the ranges above or the
-// depth exceeds structure `name`'s own cap.
+// Throws UsageError naming the flag when a parameter is outside its range (params.h) or the
+// depth exceeds structure `name`'s own cap (registry.h). Every parameter is checked, those
+// the structure does not read too: a program sets them all.
 void check_params(const std::string& name, const AccelParams& params);
 
 }  // namespace gs

@@ -17,9 +17,6 @@ namespace {
 
 // Absolute granularities stay exact integers in double (wall = x0 + E * (I / G)).
 constexpr uint64_t kMaxAbsoluteGranularity = uint64_t{1} << 50;
-// Depth cap when --max-depth is not given: far deeper than the cost function goes on real
-// scenes; it bounds degenerate input.
-constexpr int kDefaultMaxDepth = 32;
 
 // A wall of the global grid (origin, extent, granularity). Computed from the integer index
 // so that one physical wall has bit-identical coordinates at every level: I / G is the

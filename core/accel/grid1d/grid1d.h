@@ -49,6 +49,10 @@ struct VoxelCostReport {
 
 class Grid1D final : public Accelerator {
  public:
+  // Depth cap when --max-depth is not given: far deeper than the cost function goes on real
+  // scenes; it bounds degenerate input.
+  static constexpr int kDefaultMaxDepth = 32;
+
   explicit Grid1D(const AccelParams& params);
   ~Grid1D() override;
 
