@@ -27,16 +27,6 @@ struct DBox {
   }
 };
 
-// Rounded outward to float, so the float box contains the double one.
-float round_down(double x) {
-  float f = float(x);
-  return double(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
-}
-float round_up(double x) {
-  float f = float(x);
-  return double(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
-}
-
 }  // namespace
 
 // Build state: per usable triangle its padded box and centroid; nodes appended in
@@ -128,7 +118,10 @@ struct Bvh::Builder {
   void make_leaf(uint32_t node, uint32_t begin, uint32_t end) {
     std::vector<uint32_t> leaf(ids.begin() + begin, ids.begin() + end);
     for (uint32_t& id : leaf) id |= kOnlyHere;
-    bvh.nodes_[node].first = bvh.leaves_.add(leaf, verts);
+    const Node& box = bvh.nodes_[node];
+    const double lo[3] = {box.lo[0], box.lo[1], box.lo[2]},
+                 hi[3] = {box.hi[0], box.hi[1], box.hi[2]};
+    bvh.nodes_[node].first = bvh.leaves_.add(leaf, bvh.input_, lo, hi);
     bvh.nodes_[node].count = end - begin;
     ++bvh.leaves_count_;
   }
@@ -138,7 +131,7 @@ struct Bvh::Builder {
     DBox box;
     for (uint32_t i = begin; i < end; ++i) box.extend(boxes[ids[i]]);
     for (int a = 0; a < 3; ++a)
-      bvh.nodes_[node].lo[a] = round_down(box.lo[a]), bvh.nodes_[node].hi[a] = round_up(box.hi[a]);
+      bvh.nodes_[node].lo[a] = float_down(box.lo[a]), bvh.nodes_[node].hi[a] = float_up(box.hi[a]);
     const uint32_t n = end - begin;
     if (n <= 1 || depth + 1 >= bvh.max_depth_) return make_leaf(node, begin, end);
     const Split split = best_split(begin, end, box.area());
@@ -214,12 +207,6 @@ constexpr float kGamma3 = 1.7881409e-7f;
 // x moved toward +infinity by `share` of its magnitude (infinities and NaN unchanged).
 float widened(float x, float share) { return x * (1 + std::copysign(share, x)); }
 
-// The largest float not above x (the ray's clipped start, rounded down).
-float float_below(double x) {
-  const float f = float(x);
-  return double(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
-}
-
 }  // namespace
 
 // The ray as the slab test reads it, in float: per axis the near and far planes' index
@@ -268,7 +255,7 @@ Hit Bvh::trace(const Ray& ray, MailboxContext& context) const {
     rb.near[a] = std::signbit(ray.dir[a]) ? 1 : 0;
   }
   const double slack = walk_slack(ray, input_.clip.magnitude, inv_dir);
-  rb.t_lo = float_below(t_enter - slack);
+  rb.t_lo = float_down(t_enter - slack);
   const auto limit_of = [&](float tmax) {
     return widened(float(stop_distance(tmax, slack)), 4 * kGamma3);
   };

@@ -59,8 +59,8 @@ class NestedGrid final : public Accelerator {
   // triangle whose padded box lies inside the cell skips the mailbox there.
   struct Cell {
     std::atomic<uint8_t> status;
-    uint32_t child;     // kSplit: the sub-grid's id
-    uint32_t leaf;      // its triangles' leaf handle (when ref_count > 0)
+    uint32_t child;  // kSplit: the sub-grid's id
+    uint32_t leaf;   // its triangles' leaf handle (when ref_count > 0)
     uint32_t ref_count;
   };
   enum Status : uint8_t { kUnexamined = 0, kBuilding, kLeaf, kSplit };
@@ -78,7 +78,8 @@ class NestedGrid final : public Accelerator {
   template <bool AnyHit>
   Hit trace(const Ray& ray, MailboxContext& context) const;
   template <bool AnyHit>
-  bool walk(uint32_t grid_id, double t_cur, int entered_axis, RayWalk& w, MailboxContext& context) const;
+  bool walk(uint32_t grid_id, double t_cur, int entered_axis, RayWalk& w,
+            MailboxContext& context) const;
   template <bool AnyHit>
   bool test_cell(const Cell& cell, RayWalk& w, MailboxContext& context) const;
   uint8_t examine(uint32_t cell_id, MailboxContext& context) const;

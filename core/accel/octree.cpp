@@ -88,15 +88,17 @@ void Octree::build_node(uint32_t node, int depth, const uint32_t lo[3],
 uint32_t Octree::make_leaf(int depth, const uint32_t lo[3], const std::vector<uint32_t>& tris) {
   if (tris.empty()) return 0;
   const uint32_t size = fine_ >> depth;
+  double cell_lo[3], cell_hi[3];
+  for (int a = 0; a < 3; ++a)
+    cell_lo[a] = wall(a, lo[a]), cell_hi[a] = wall(a, uint64_t(lo[a]) + size);
   std::vector<uint32_t> ids(tris);
   for (uint32_t& id : ids) {
     const double* box = input_.box(id);
     bool inside = true;
-    for (int a = 0; a < 3; ++a)
-      inside &= box[a] >= wall(a, lo[a]) && box[a + 3] <= wall(a, uint64_t(lo[a]) + size);
+    for (int a = 0; a < 3; ++a) inside &= box[a] >= cell_lo[a] && box[a + 3] <= cell_hi[a];
     if (inside) id |= kOnlyHere;
   }
-  return leaves_.add(ids, input_.triangles);
+  return leaves_.add(ids, input_, cell_lo, cell_hi);
 }
 
 // Sorts the node's triangles into its 8 children by padded box overlap with the children's

@@ -77,7 +77,7 @@ class Octree final : public Accelerator {
   size_t leaf_size_;
   uint64_t memory_budget_;
   Kernel kernel_;
-  BuildInput input_;  // its clip box: the box every ray is clipped to; the root's low corner
+  BuildInput input_;       // its clip box: the box every ray is clipped to; the root's low corner
   uint32_t fine_ = 1;      // 2^depth_: finest cells per side
   double inv_fine_ = 1.0;  // 2^-depth_, exact
   double cell_extent_[3] = {};  // the root cell's extent (see set_cell_extents)

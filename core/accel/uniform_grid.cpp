@@ -80,8 +80,8 @@ void UniformGrid::shrink_to(double cells) {
 // What the grid's arrays take with `counts[c]` references in cell c: a leaf handle per
 // cell, a leaf per occupied cell, and the walls.
 uint64_t UniformGrid::grid_bytes(const std::vector<uint32_t>& counts) const {
-  uint64_t bytes = sizeof(uint32_t) * cell_count() +
-                   sizeof(double) * (uint64_t(n_[0]) + n_[1] + n_[2] + 3);
+  uint64_t bytes =
+      sizeof(uint32_t) * cell_count() + sizeof(double) * (uint64_t(n_[0]) + n_[1] + n_[2] + 3);
   for (const uint32_t count : counts)
     if (count > 0) bytes += LeafStore::bytes_for(count);
   return bytes;
@@ -176,7 +176,10 @@ void UniformGrid::fill_cells() {
   for (size_t c = 0; c < counts.size(); ++c) {
     if (counts[c] == 0) continue;
     ids.assign(flat.begin() + int64_t(offsets[c]), flat.begin() + int64_t(offsets[c + 1]));
-    cell_leaf_[c] = leaves_.add(ids, input_.triangles);
+    const uint64_t index[3] = {c % n_[0], (c / n_[0]) % n_[1], c / (uint64_t(n_[0]) * n_[1])};
+    double lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) lo[a] = walls_[a][index[a]], hi[a] = walls_[a][index[a] + 1];
+    cell_leaf_[c] = leaves_.add(ids, input_, lo, hi);
   }
 }
 

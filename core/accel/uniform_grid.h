@@ -54,8 +54,8 @@ class UniformGrid final : public Accelerator {
   Kernel kernel_;
   BuildInput input_;  // its clip box is the grid's box
   uint32_t n_[3] = {1, 1, 1};
-  std::vector<double> walls_[3];  // n + 1 walls per axis: lo + extent * (i / n), exact
-  double scale_[3] = {0, 0, 0};   // cells per unit length, to locate a point
+  std::vector<double> walls_[3];     // n + 1 walls per axis: lo + extent * (i / n), exact
+  double scale_[3] = {0, 0, 0};      // cells per unit length, to locate a point
   std::vector<uint32_t> cell_leaf_;  // per cell its leaf's handle, kEmptyCell for none
   static constexpr uint32_t kEmptyCell = LeafStore::kFull;
   LeafStore leaves_;

@@ -38,9 +38,10 @@ struct WalkCell {
   int entered_axis = -1;              // the axis of the wall it came through; -1 for the first cell
   uint32_t climbed = 0;               // levels climbed to make the step into it (§5.3)
   std::vector<WalkDescent> descents;  // levels gone down to reach it
-  uint32_t tests = 0;                 // ray/triangle tests made in it
-  uint32_t rejections = 0;            // triangles the mailbox skipped (tested in an earlier cell)
-  int32_t hit = -1;                   // the nearest hit so far once the cell was searched
+  bool culled = false;      // the ray's segment in it missed its contents' box: nothing looked at
+  uint32_t tests = 0;       // ray/triangle tests made in it
+  uint32_t rejections = 0;  // triangles the mailbox skipped (tested in an earlier cell)
+  int32_t hit = -1;         // the nearest hit so far once the cell was searched
 };
 
 struct Walk {

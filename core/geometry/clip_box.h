@@ -89,6 +89,38 @@ inline float next_float_up(float x) {
   return std::bit_cast<float>(x > 0.0f ? bits + 1 : bits - 1);
 }
 
+// The nearest floats at or below / at or above x: a double box rounded outward to float
+// still contains everything the double box did.
+inline float float_down(double x) {
+  const float f = float(x);
+  return double(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+}
+inline float float_up(double x) {
+  const float f = float(x);
+  return double(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+}
+
+// The box of `count` triangles' padded boxes (`boxes`: lo.xyz, hi.xyz each, as BuildInput
+// keeps them) within the cell lo..hi grown by `padding`, rounded outward to float: lo[3],
+// hi[3]. A hit the kernel reports in the cell lies inside it with a margin of about
+// `padding`, so a walk that finds the ray's segment in the cell off this box may skip the
+// cell's tests (docs/design.md §6).
+template <class BoxOf>
+void content_box(uint32_t count, BoxOf&& box_of, const double lo[3], const double hi[3],
+                 double padding, float out[6]) {
+  double content[6] = {kInf, kInf, kInf, -kInf, -kInf, -kInf};
+  for (uint32_t i = 0; i < count; ++i) {
+    const double* box = box_of(i);
+    for (int a = 0; a < 3; ++a)
+      content[a] = std::min(content[a], box[a]),
+      content[a + 3] = std::max(content[a + 3], box[a + 3]);
+  }
+  for (int a = 0; a < 3; ++a) {
+    out[a] = float_down(std::max(content[a], lo[a] - padding));
+    out[a + 3] = float_up(std::min(content[a + 3], hi[a] + padding));
+  }
+}
+
 // A walk may stop once the current cell's (or node's) entry or exit lies beyond this: the
 // nearest hit's t (or tmax) is rounded to float, so a triangle hit at the same float t —
 // which wins if its id is lower — may cross the ray up to the next float beyond it.

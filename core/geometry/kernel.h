@@ -78,17 +78,18 @@ struct PreparedRay {
 
 // Tests one triangle whose corners' coordinates are c0[a * stride], c1[a * stride],
 // c2[a * stride] for axis a (stride 1 for a glm::vec3; a leaf's count for its
-// structure-of-arrays block, core/geometry/leaf.h). On a hit with tmin < t <= tmax (t as reported: rounded to float)
-// writes t and the barycentric weights of the second (u) and third (v) corner and returns
-// true.
+// structure-of-arrays block, core/geometry/leaf.h). On a hit with tmin < t <= tmax (t as reported:
+// rounded to float) writes t and the barycentric weights of the second (u) and third (v) corner and
+// returns true.
 template <class Real>
-[[gnu::always_inline]] inline bool intersect_triangle(const PreparedRay<Real>& ray,
-                                                      const float* c0, const float* c1,
-                                                      const float* c2, size_t stride, float tmax,
-                                                      float& t, float& u, float& v) {
+[[gnu::always_inline]] inline bool intersect_triangle(const PreparedRay<Real>& ray, const float* c0,
+                                                      const float* c1, const float* c2,
+                                                      size_t stride, float tmax, float& t, float& u,
+                                                      float& v) {
   const Real* o = ray.origin;
   const int kx = ray.kx, ky = ray.ky, kz = ray.kz;
-  const Real az = Real(c0[kz * stride]) - o[kz], bz = Real(c1[kz * stride]) - o[kz], cz = Real(c2[kz * stride]) - o[kz];
+  const Real az = Real(c0[kz * stride]) - o[kz], bz = Real(c1[kz * stride]) - o[kz],
+             cz = Real(c2[kz * stride]) - o[kz];
   const Real ax = (Real(c0[kx * stride]) - o[kx]) - ray.sx * az;
   const Real ay = (Real(c0[ky * stride]) - o[ky]) - ray.sy * az;
   const Real bx = (Real(c1[kx * stride]) - o[kx]) - ray.sx * bz;

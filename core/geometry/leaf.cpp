@@ -8,26 +8,27 @@
 
 namespace gs {
 
-LeafStore::LeafStore(uint64_t max_bytes)
-    : ids_(max_bytes / 10), coords_(max_bytes / 10 * 9) {}
+LeafStore::LeafStore(uint64_t max_bytes) : ids_(max_bytes / 10), coords_(max_bytes / 10 * 9) {}
 
 void LeafStore::reset(uint64_t max_bytes) {
   ids_.reset(max_bytes / 10);
   coords_.reset(max_bytes / 10 * 9);
 }
 
-uint32_t LeafStore::add(const std::vector<uint32_t>& ids,
-                        const std::vector<TriangleVerts>& triangles) {
+uint32_t LeafStore::add(const std::vector<uint32_t>& ids, const BuildInput& input,
+                        const double lo[3], const double hi[3]) {
   const auto n = uint32_t(ids.size());
   const size_t handle = ids_.append(size_t(n) + 1);
-  if (handle == SIZE_MAX || handle >= kFull ||
-      !coords_.construct(9 * handle, 9 * (size_t(n) + 1)))
+  if (handle == SIZE_MAX || handle >= kFull || !coords_.construct(9 * handle, 9 * (size_t(n) + 1)))
     return kFull;
   ids_[handle] = n;
+  content_box(
+      n, [&](uint32_t i) { return input.box(ids[i] & ~kOnlyHere); }, lo, hi, input.clip.padding,
+      &coords_[9 * handle]);
   float* coords = &coords_[9 * (handle + 1)];
   for (uint32_t i = 0; i < n; ++i) {
     ids_[handle + 1 + i] = ids[i];
-    const TriangleVerts& t = triangles[ids[i] & ~kOnlyHere];
+    const TriangleVerts& t = input.triangles[ids[i] & ~kOnlyHere];
     const glm::vec3* corners[3] = {&t.v0, &t.v1, &t.v2};
     for (int k = 0; k < 3; ++k)
       for (int a = 0; a < 3; ++a) coords[size_t(3 * k + a) * n + i] = (*corners[k])[a];
@@ -40,8 +41,8 @@ uint32_t test_lanes_scalar(const LeafView& leaf, uint32_t first, uint32_t lanes,
   uint32_t hits = 0;
   for (; lanes != 0; lanes &= lanes - 1) {
     const uint32_t j = uint32_t(std::countr_zero(lanes)), i = first + j;
-    if (intersect_triangle(ray, leaf.corner(i, 0), leaf.corner(i, 1), leaf.corner(i, 2),
-                           leaf.count, tmax, out.t[j], out.u[j], out.v[j]))
+    if (intersect_triangle(ray, leaf.corner(i, 0), leaf.corner(i, 1), leaf.corner(i, 2), leaf.count,
+                           tmax, out.t[j], out.u[j], out.v[j]))
       hits |= 1u << j;
   }
   return hits;
@@ -94,8 +95,7 @@ Isa from_environment() {
   for (const Isa isa : {Isa::scalar, Isa::avx2, Isa::avx512})
     if (std::string(forced) == isa_name(isa))
       return checked(isa, std::string("GRIDSCOPE_ISA=") + forced);
-  throw UsageError(std::string("GRIDSCOPE_ISA=") + forced +
-                   ": expected scalar, avx2 or avx512");
+  throw UsageError(std::string("GRIDSCOPE_ISA=") + forced + ": expected scalar, avx2 or avx512");
 }
 
 }  // namespace

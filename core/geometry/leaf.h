@@ -22,11 +22,13 @@ namespace gs {
 inline constexpr uint32_t kOnlyHere = 1u << 31;
 
 // One leaf: triangle i's corner k (0..2), axis a (0..2) is coords[(3k + a) * count + i];
-// ids[i] is its id, with kOnlyHere possibly set.
+// ids[i] is its id, with kOnlyHere possibly set; box (lo[3], hi[3]) holds what the leaf's
+// triangles can be hit at (content_box), or is null.
 struct LeafView {
   const float* coords = nullptr;
   const uint32_t* ids = nullptr;
   uint32_t count = 0;
+  const float* box = nullptr;
 
   uint32_t id(uint32_t i) const { return ids[i] & ~kOnlyHere; }
   const float* corner(uint32_t i, int k) const { return coords + size_t(3 * k) * count + i; }
@@ -34,8 +36,8 @@ struct LeafView {
 
 // Leaves appended by one or more building threads, never moved (readers may be walking
 // others while a leaf is added). A leaf's handle is its position in the id arena, which
-// holds its count and then its ids; its coordinates start at 9 * (handle + 1) in the
-// coordinate arena, which grows in lockstep (9 floats per id slot).
+// holds its count and then its ids; the coordinate arena grows in lockstep (9 floats per id
+// slot): at 9 * handle the leaf's content box, its coordinates from 9 * (handle + 1).
 class LeafStore {
  public:
   // Address space for `max_bytes` of leaves (reserved, committed as leaves are written).
@@ -44,11 +46,14 @@ class LeafStore {
   // knows what its leaves take before it stores them. Only while nobody reads the store.
   void reset(uint64_t max_bytes);
   // Appends a leaf of the triangles `ids` (each with kOnlyHere where it applies; corners
-  // from `triangles`) and returns its handle, or kFull when the reservation is spent.
+  // and padded boxes from `input`) for the cell lo..hi, and returns its handle, or kFull
+  // when the reservation is spent.
   static constexpr uint32_t kFull = UINT32_MAX;
-  uint32_t add(const std::vector<uint32_t>& ids, const std::vector<TriangleVerts>& triangles);
+  uint32_t add(const std::vector<uint32_t>& ids, const BuildInput& input, const double lo[3],
+               const double hi[3]);
   LeafView view(uint32_t handle) const {
-    return {&coords_[9 * (size_t(handle) + 1)], &ids_[size_t(handle) + 1], ids_[handle]};
+    return {&coords_[9 * (size_t(handle) + 1)], &ids_[size_t(handle) + 1], ids_[handle],
+            &coords_[9 * size_t(handle)]};
   }
   // Bytes one leaf of n triangles takes.
   static uint64_t bytes_for(uint32_t n) { return uint64_t(n + 1) * 10 * sizeof(float); }

@@ -46,25 +46,23 @@ uint32_t test_lanes_avx2(const LeafView& leaf, uint32_t first, uint32_t lanes,
 
   const __m256d zero = _mm256_setzero_pd();
   const auto any = [&](int predicate) {
-    return uint32_t(_mm256_movemask_pd(
-        _mm256_or_pd(_mm256_or_pd(_mm256_cmp_pd(e0, zero, predicate),
-                                  _mm256_cmp_pd(e1, zero, predicate)),
-                     _mm256_cmp_pd(e2, zero, predicate))));
+    return uint32_t(_mm256_movemask_pd(_mm256_or_pd(
+        _mm256_or_pd(_mm256_cmp_pd(e0, zero, predicate), _mm256_cmp_pd(e1, zero, predicate)),
+        _mm256_cmp_pd(e2, zero, predicate))));
   };
   // An edge function of exactly zero is redone in wider arithmetic: the scalar kernel's.
   const uint32_t wide = any(_CMP_EQ_OQ) & lanes;
   const uint32_t inside = ~(any(_CMP_LT_OQ) & any(_CMP_GT_OQ)) & lanes & ~wide;
   const __m256d det = _mm256_add_pd(_mm256_add_pd(e0, e1), e2);
   const uint32_t nonzero = uint32_t(_mm256_movemask_pd(_mm256_cmp_pd(det, zero, _CMP_NEQ_UQ)));
-  const __m256d scaled =
-      _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(e0, _mm256_mul_pd(sz, az)),
-                                  _mm256_mul_pd(e1, _mm256_mul_pd(sz, bz))),
-                    _mm256_mul_pd(e2, _mm256_mul_pd(sz, cz)));
-  const __m128 t = _mm256_cvtpd_ps(
-      _mm256_add_pd(_mm256_set1_pd(ray.shift), _mm256_div_pd(scaled, det)));
-  const uint32_t in_range = uint32_t(_mm_movemask_ps(
-      _mm_and_ps(_mm_cmp_ps(t, _mm_set1_ps(ray.tmin), _CMP_GT_OQ),
-                 _mm_cmp_ps(t, _mm_set1_ps(tmax), _CMP_LE_OQ))));
+  const __m256d scaled = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(e0, _mm256_mul_pd(sz, az)),
+                                                     _mm256_mul_pd(e1, _mm256_mul_pd(sz, bz))),
+                                       _mm256_mul_pd(e2, _mm256_mul_pd(sz, cz)));
+  const __m128 t =
+      _mm256_cvtpd_ps(_mm256_add_pd(_mm256_set1_pd(ray.shift), _mm256_div_pd(scaled, det)));
+  const uint32_t in_range =
+      uint32_t(_mm_movemask_ps(_mm_and_ps(_mm_cmp_ps(t, _mm_set1_ps(ray.tmin), _CMP_GT_OQ),
+                                          _mm_cmp_ps(t, _mm_set1_ps(tmax), _CMP_LE_OQ))));
   uint32_t hits = inside & nonzero & in_range;
   if (hits != 0) {
     _mm_storeu_ps(out.t, t);

@@ -53,12 +53,10 @@ uint32_t test_lanes_avx512(const LeafView& leaf, uint32_t first, uint32_t lanes,
   const uint32_t inside = ~(any(_CMP_LT_OQ) & any(_CMP_GT_OQ)) & lanes & ~wide;
   const __m512d det = _mm512_add_pd(_mm512_add_pd(e0, e1), e2);
   const uint32_t nonzero = _mm512_cmp_pd_mask(det, zero, _CMP_NEQ_UQ);
-  const __m512d scaled =
-      _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(e0, _mm512_mul_pd(sz, az)),
-                                  _mm512_mul_pd(e1, _mm512_mul_pd(sz, bz))),
-                    _mm512_mul_pd(e2, _mm512_mul_pd(sz, cz)));
-  const __m256 t = to_float(
-      _mm512_add_pd(_mm512_set1_pd(ray.shift), _mm512_div_pd(scaled, det)));
+  const __m512d scaled = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(e0, _mm512_mul_pd(sz, az)),
+                                                     _mm512_mul_pd(e1, _mm512_mul_pd(sz, bz))),
+                                       _mm512_mul_pd(e2, _mm512_mul_pd(sz, cz)));
+  const __m256 t = to_float(_mm512_add_pd(_mm512_set1_pd(ray.shift), _mm512_div_pd(scaled, det)));
   const uint32_t in_range = _mm256_cmp_ps_mask(t, _mm256_set1_ps(ray.tmin), _CMP_GT_OQ) &
                             _mm256_cmp_ps_mask(t, _mm256_set1_ps(tmax), _CMP_LE_OQ);
   uint32_t hits = inside & nonzero & in_range;

@@ -68,7 +68,7 @@ Grid1D::Grid1D(const AccelParams& params)
       leaves_(params.memory_budget),
       states_(std::min<uint64_t>(params.memory_budget, uint64_t{64} << 20)),
       state_rays_(std::min<uint64_t>(params.memory_budget, uint64_t{64} << 20)) {
-  static_assert(sizeof(Node) == 32, "two walk nodes to a cache line");
+  static_assert(sizeof(Node) == 64, "one walk node a cache line");
 }
 
 Grid1D::~Grid1D() = default;
@@ -216,7 +216,9 @@ uint32_t Grid1D::make_leaf(uint32_t id) const {
   const uint32_t count = voxels_[id].tri_count;
   const uint32_t unbuilt = child_ref::make(child_ref::kUnbuilt, id);
   if (!reserve_bytes(LeafStore::bytes_for(count))) return unbuilt;
-  const uint32_t handle = leaves_.add(leaf_ids(id), input_.triangles);
+  double lo[3], hi[3];
+  voxel_box(id, lo, hi);
+  const uint32_t handle = leaves_.add(leaf_ids(id), input_, lo, hi);
   if (handle == LeafStore::kFull || handle > child_ref::kMaxPayload) return unbuilt;
   return child_ref::make(child_ref::kLeaf, handle);
 }
@@ -390,7 +392,7 @@ uint32_t Grid1D::state_for(uint32_t axis, uint64_t granularity) const {
   const auto id = uint32_t(fits_budget(states_.append(1), "its traversal states"));
   if (!state_rays_.construct(id, 1)) fits_budget(SIZE_MAX, "its traversal states");
   const double extent = input_.clip.hi[axis] - input_.clip.lo[axis];
-  states_[id] = {input_.clip.lo[axis], extent, double(granularity) / extent,
+  states_[id] = {input_.clip.lo[axis],         extent,      double(granularity) / extent,
                  extent / double(granularity), granularity, axis};
   state_ids_.emplace(key, id);
   return id;
@@ -434,6 +436,12 @@ uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
   record.children = uint32_t(refs + words);
   record.granularity = uint16_t(g);
   record.axis = uint8_t(axis);
+  double lo[3], hi[3];
+  voxel_box(id, lo, hi);
+  const uint32_t tri_begin = voxels_[id].tri_begin;
+  content_box(
+      voxels_[id].tri_count, [&](uint32_t i) { return input_.box(tri_indices_[tri_begin + i]); },
+      lo, hi, input_.clip.padding, record.box);
   node_voxels_[node] = id;
 
   Voxel& voxel = voxels_[id];
@@ -456,8 +464,7 @@ uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
 
 // The cells' records: place, triangle counts, area estimate (§6.5), their references (empty
 // cells are leaves from birth: nothing to cut, ever) and the node's occupancy words.
-void Grid1D::link_children(uint32_t id, const Cut& cut, uint32_t first_child,
-                           uint32_t node) const {
+void Grid1D::link_children(uint32_t id, const Cut& cut, uint32_t first_child, uint32_t node) const {
   const Region& parent = regions_[id];
   const int axis = cut.axis;
   const auto g = uint32_t(cut.granularity);
@@ -489,7 +496,7 @@ void Grid1D::link_children(uint32_t id, const Cut& cut, uint32_t first_child,
         std::memory_order_relaxed);
     if (!empty)
       refs_[children - occupancy_words(g) + i / 32].fetch_or(1u << (i % 32),
-                                                              std::memory_order_relaxed);
+                                                             std::memory_order_relaxed);
   }
 }
 

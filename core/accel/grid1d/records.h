@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/accel/grid1d/grid1d.h"
+#include "core/geometry/box_test.h"
 
 namespace gs {
 
@@ -21,8 +22,8 @@ struct Grid1D::Region {
   double area_rays;                     // rays estimated from the parent by surface area (§6.5)
 };
 
-// What the walk reads of a subdivided voxel (§5): 32 bytes, two to a cache line.
-struct alignas(32) Grid1D::Node {
+// What the walk reads of a subdivided voxel (§5): one cache line.
+struct alignas(64) Grid1D::Node {
   int64_t first_cell;  // J0: index of cell 0 on the state's global grid
   uint32_t state;      // traversal state (axis, absolute granularity)
   uint32_t above[3];   // nearest ancestor node cut along each axis, or kNone (the box)
@@ -30,6 +31,9 @@ struct alignas(32) Grid1D::Node {
   uint16_t granularity;
   uint8_t axis;
   uint8_t unused = 0;
+  // Where its triangles can be hit (content_box, lo xyz then hi xyz): a ray whose segment
+  // through the voxel misses it skips the whole voxel in one test.
+  float box[6];
 };
 
 // A cell's child reference: its kind in the top two bits, so that the walk knows what it
@@ -129,6 +133,7 @@ struct Grid1D::RayWalk {
   double t_next[3];  // the active states' t_next, kept at hand for choosing the step axis
   uint64_t ray_id;
   const PreparedRay<KernelReal>* prepared;
+  const RayBoxTest* box_test;
   float tmax;
   Hit best;
 };

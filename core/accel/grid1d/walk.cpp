@@ -30,6 +30,12 @@ int64_t next_occupied(const std::atomic<uint32_t>* words, int64_t local, int ste
   return -1;
 }
 
+// Where the ray leaves the cell it is in: the nearest of the three walls, or the stop
+// distance when that comes first.
+double segment_end(const double t_next[3], double stop) {
+  return std::min({t_next[0], t_next[1], t_next[2], stop});
+}
+
 }  // namespace
 
 // The timed path's recorder: every hook compiles to nothing.
@@ -37,6 +43,7 @@ struct Grid1D::NullRecorder {
   static constexpr bool kRecords = false;
   void descent(uint32_t /*node*/, int64_t /*cell*/, StateCase /*state_case*/) {}
   void cell(uint32_t /*voxel*/, double /*t_enter*/, int /*axis*/, uint32_t /*climbed*/) {}
+  void culled() {}
   void tested(uint32_t /*count*/) {}
   void rejected() {}
   void searched(int32_t /*best*/) {}
@@ -66,6 +73,7 @@ class Grid1D::WalkRecorder {
     cell.hit = walk_.cells.empty() ? -1 : walk_.cells.back().hit;
     walk_.cells.push_back(std::move(cell));
   }
+  void culled() { walk_.cells.back().culled = true; }
   void tested(uint32_t count) { walk_.cells.back().tests += count; }
   void rejected() { ++walk_.cells.back().rejections; }
   void searched(int32_t best) { walk_.cells.back().hit = best; }
@@ -116,7 +124,9 @@ Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
     walk.active[a] = kNone, walk.active_state[a] = a, walk.t_next[a] = box.t_next;
   }
   const PreparedRay<KernelReal> prepared(ray, t_enter, walk.inv_dir);
+  const RayBoxTest box_test(walk.origin, walk.inv_dir);
   walk.prepared = &prepared;
+  walk.box_test = &box_test;
   walk.tmax = ray.tmax;
   walk.best = Hit{};
   // Changes only with tmax: computed per hit rather than per step.
@@ -129,11 +139,22 @@ Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
   int entered = -1;
   uint32_t climbed = 0;
   for (;;) {
-    // Down to a leaf, an empty cell, or a voxel to search through its id list.
+    // Down to a leaf, an empty cell, a node whose contents the ray misses, or a voxel to
+    // search through its id list. The ray's segment in the current cell ends at the nearest
+    // of the three walls (or at the stop distance).
+    bool culled = false;
     for (;;) {
       const child_ref::Kind kind = child_ref::kind(ref);
       if (kind == child_ref::kNode) {
-        parent = child_ref::payload(ref);
+        const uint32_t node = child_ref::payload(ref);
+        if (!box_test.crosses(nodes_[node].box, nodes_[node].box + 3, t_cur,
+                              segment_end(walk.t_next, stop))) {
+          culled = true;
+          if constexpr (Recorder::kRecords)
+            recorder.cell(node_voxels_[node], t_cur, entered, climbed);
+          break;
+        }
+        parent = node;
         local = descend(parent, t_cur, entered, walk, context, recorder);
         ref = refs_[nodes_[parent].children + local].load(std::memory_order_acquire);
       } else if (kind == child_ref::kUnbuilt) {
@@ -144,22 +165,30 @@ Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
         break;
       }
     }
-    if constexpr (Recorder::kRecords)
-      recorder.cell(parent == kNone ? 0 : voxels_[node_voxels_[parent]].first_child + local, t_cur,
-                    entered, climbed);
     bool found = false;
-    switch (child_ref::kind(ref)) {
-      case child_ref::kLeaf:
-        found = test_leaf<AnyHit>(leaves_.view(child_ref::payload(ref)), kernel_, prepared,
-                                  walk.ray_id, walk.tmax, walk.best, context.mailbox, counters,
-                                  recorder);
-        break;
-      case child_ref::kUnbuilt:
-        found = search_unbuilt<AnyHit>(child_ref::payload(ref), walk, context, recorder);
-        break;
-      default:  // empty: no test; a run of empty cells is crossed in one go
-        if (parent != kNone) skip_empty(parent, local, walk, context, recorder);
-        break;
+    if (culled) {
+      recorder.culled();
+    } else {
+      if constexpr (Recorder::kRecords)
+        recorder.cell(parent == kNone ? 0 : voxels_[node_voxels_[parent]].first_child + local,
+                      t_cur, entered, climbed);
+      switch (child_ref::kind(ref)) {
+        case child_ref::kLeaf: {
+          const LeafView leaf = leaves_.view(child_ref::payload(ref));
+          if (box_test.crosses(leaf.box, leaf.box + 3, t_cur, segment_end(walk.t_next, stop)))
+            found = test_leaf<AnyHit>(leaf, kernel_, prepared, walk.ray_id, walk.tmax, walk.best,
+                                      context.mailbox, counters, recorder);
+          else
+            recorder.culled();
+          break;
+        }
+        case child_ref::kUnbuilt:
+          found = search_unbuilt<AnyHit>(child_ref::payload(ref), walk, context, recorder);
+          break;
+        default:  // empty: no test; a run of empty cells is crossed in one go
+          if (parent != kNone) skip_empty(parent, local, walk, context, recorder);
+          break;
+      }
     }
     recorder.searched(walk.best.id);
     if (AnyHit && found) return walk.best;
@@ -223,8 +252,7 @@ template <class Recorder>
   int64_t local = values.index - first;
   const bool used_by_ray = values.stamp == walk.ray_id;
   StateCase state_case = StateCase::reused;
-  if (!used_by_ray || values.t_next <= t_cur || local < 0 || local >= g ||
-      int(b) == entered_axis) {
+  if (!used_by_ray || values.t_next <= t_cur || local < 0 || local >= g || int(b) == entered_axis) {
     state_case = used_by_ray ? StateCase::index_only : StateCase::reinitialised;
     const StateInfo& info = states_[node.state];
     if (!used_by_ray) {
@@ -305,8 +333,7 @@ bool Grid1D::search_unbuilt(uint32_t id, RayWalk& walk, Context& context,
                             Recorder& recorder) const {
   const Voxel& voxel = voxels_[id];
   const uint32_t n = voxel.tri_count;
-  context.scratch_ids.assign(&tri_indices_[voxel.tri_begin],
-                             &tri_indices_[voxel.tri_begin] + n);
+  context.scratch_ids.assign(&tri_indices_[voxel.tri_begin], &tri_indices_[voxel.tri_begin] + n);
   context.scratch_coords.resize(size_t(n) * 9);
   for (uint32_t i = 0; i < n; ++i) {
     const TriangleVerts& t = input_.triangles[context.scratch_ids[i]];
