@@ -140,19 +140,8 @@ TEST(Calibrate, WithCalibrationSetsExactlyTheFiveConstants) {
   EXPECT_EQ(with_calibration(params, calibration).to_json(), expected);
 }
 
-// The InputError message `call` throws, or "" when it throws none.
-template <class Call>
-std::string input_error_of(Call&& call) {
-  try {
-    call();
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  return "";
-}
-
 std::string error_of(const json& in) {
-  return input_error_of([&] { calibration_from_json(in, "costs.json"); });
+  return test::input_error([&] { calibration_from_json(in, "costs.json"); });
 }
 
 TEST(Calibrate, BadCalibrationIsInputErrorNamingTheFile) {
@@ -180,9 +169,9 @@ TEST(Calibrate, BadCalibrationIsInputErrorNamingTheFile) {
   // Files: NaN is not JSON; a missing file.
   const std::string path = test::temp_path("bad-calibration.json");
   std::ofstream(path) << R"({"intcost": 1, "repcost": NaN})";
-  EXPECT_EQ(input_error_of([&] { read_calibration(path); }), path + ": is not valid JSON");
+  EXPECT_EQ(test::input_error([&] { read_calibration(path); }), path + ": is not valid JSON");
   std::remove(path.c_str());
-  EXPECT_EQ(input_error_of([&] { read_calibration(path); }).rfind(path + ": ", 0), 0u);
+  EXPECT_EQ(test::input_error([&] { read_calibration(path); }).rfind(path + ": ", 0), 0u);
 }
 
 TEST(Calibrate, ShortRealRunMeasuresEveryConstant) {

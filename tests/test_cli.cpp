@@ -34,11 +34,8 @@ constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 using gs::test::quoted;
 using gs::test::slurp;
+using gs::test::write_temp_file;
 using Outcome = gs::test::CommandOutcome;
-
-void spit(const std::string& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary) << bytes;
-}
 
 // Runs gridscope with `args` (already shell-quoted where needed).
 Outcome run(const std::string& args) { return gs::test::run_gridscope(args); }
@@ -54,12 +51,10 @@ void expect_failure(const Outcome& result, int status, const std::string& mentio
 // Two triangles, hand-placed: id 0 in z = 0 with corners (0,0) (1,0) (0,1); id 1 in z = 2
 // with corners (0,0) (2,0) (0,2). For a point (x, y) inside, u = x / side and v = y / side.
 std::string two_triangles() {
-  const std::string path = temp_path("two.obj");
-  spit(path,
-       "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
-       "v 0 0 2\nv 2 0 2\nv 0 2 2\n"
-       "f 1 2 3\nf 4 5 6\n");
-  return path;
+  return write_temp_file("two.obj",
+                         "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                         "v 0 0 2\nv 2 0 2\nv 0 2 2\n"
+                         "f 1 2 3\nf 4 5 6\n");
 }
 
 // A ray file written byte by byte, independent of the library: ox oy oz tmin dx dy dz tmax.
@@ -67,9 +62,7 @@ using RayRecord = std::array<float, 8>;
 std::string ray_file(const std::string& name, const std::vector<RayRecord>& rays) {
   std::string bytes(rays.size() * 32, '\0');
   for (size_t i = 0; i < rays.size(); ++i) std::memcpy(&bytes[32 * i], rays[i].data(), 32);
-  const std::string path = temp_path(name);
-  spit(path, bytes);
-  return path;
+  return write_temp_file(name, bytes);
 }
 
 struct HitRecord {
@@ -167,8 +160,7 @@ TEST(Cli, OccludedGivesSomeBlockingTriangle) {
 }
 
 TEST(Cli, EmptyRayFileGivesEmptyHitFile) {
-  const std::string out = temp_path("empty.hits");
-  spit(out, "stale");
+  const std::string out = write_temp_file("empty.hits", "stale");
   const Outcome result =
       run(trace_args(two_triangles(), ray_file("empty.rays", {}), out) + " --accel brute");
   ASSERT_EQ(result.status, 0) << result.err;
@@ -261,12 +253,10 @@ TEST(Cli, BadInputExitsOneNamingTheFile) {
   const std::string missing_scene = temp_path("no-such-scene.obj");
   expect_failure(run(trace_args(missing_scene, rays, out) + " --accel brute"), 1, missing_scene);
 
-  const std::string malformed = temp_path("malformed.obj");
-  spit(malformed, "v 0 0 0\nv 1 0 0\nf 1 2 7\n");
+  const std::string malformed = write_temp_file("malformed.obj", "v 0 0 0\nv 1 0 0\nf 1 2 7\n");
   expect_failure(run(trace_args(malformed, rays, out) + " --accel brute"), 1, malformed);
 
-  const std::string odd = temp_path("odd.rays");
-  spit(odd, std::string(33, '\0'));
+  const std::string odd = write_temp_file("odd.rays", std::string(33, '\0'));
   expect_failure(run(trace_args(scene, odd, out) + " --accel brute"), 1, odd + ": size 33");
 
   const std::string missing_rays = temp_path("no-such.rays");
@@ -287,28 +277,37 @@ TEST(Cli, UsageErrorsExitTwo) {
   const std::string scene = two_triangles();
   const std::string trace = trace_args(scene, ray_file("u.rays", {}), temp_path("u.hits"));
   const std::string render = "render " + quoted(scene) + " --out " + quoted(temp_path("u.png"));
-  expect_failure(run(""), 2, "no command");
-  expect_failure(run("frobnicate"), 2, "frobnicate");
-  expect_failure(run(trace + " --bogus"), 2, "--bogus");
-  expect_failure(run(trace + " --accel nosuch"), 2, "nosuch");
-  expect_failure(run(trace + " --threads 0"), 2, "--threads");
-  expect_failure(run(trace + " --threads 1025"), 2, "--threads");
-  expect_failure(run(trace + " --threads two"), 2, "--threads");
-  expect_failure(run(trace + " --rays"), 2, "--rays");
-  expect_failure(run("trace " + quoted(scene) + " --out x.hits"), 2, "--rays");
-  expect_failure(run(trace + " --intcost -1"), 2, "--intcost");
-  expect_failure(run(trace + " --vertcost nan"), 2, "--vertcost");
-  expect_failure(run(trace + " --max-granularity 0"), 2, "--max-granularity");
-  expect_failure(run(trace + " --max-depth 65"), 2, "--max-depth");
-  expect_failure(run(trace + " --sample-every 0"), 2, "--sample-every");
-  expect_failure(run(trace + " --axis diagonal"), 2, "--axis");
-  expect_failure(run(trace + " --memory-budget 12Q"), 2, "--memory-budget");
-  expect_failure(run(trace + " --size 8x8"), 2, "--size");
-  expect_failure(run(render + " --rays x"), 2, "--rays");
-  expect_failure(run(render + " --spp 0"), 2, "--spp");
+  // Each command line, and what its one-line error must name.
+  std::vector<std::pair<std::string, std::string>> usage_errors = {
+      {"", "no command"},
+      {"frobnicate", "frobnicate"},
+      {trace + " --bogus", "--bogus"},
+      {trace + " --accel nosuch", "nosuch"},
+      {trace + " --threads 0", "--threads"},
+      {trace + " --threads 1025", "--threads"},
+      {trace + " --threads two", "--threads"},
+      {trace + " --rays", "--rays"},
+      {"trace " + quoted(scene) + " --out x.hits", "--rays"},
+      {trace + " --intcost -1", "--intcost"},
+      {trace + " --vertcost nan", "--vertcost"},
+      {trace + " --max-granularity 0", "--max-granularity"},
+      {trace + " --max-depth 65", "--max-depth"},
+      {trace + " --sample-every 0", "--sample-every"},
+      {trace + " --axis diagonal", "--axis"},
+      {trace + " --memory-budget 12Q", "--memory-budget"},
+      {trace + " --size 8x8", "--size"},
+      {render + " --rays x", "--rays"},
+      {render + " --spp 0", "--spp"},
+      {"bench --accels bvh,kd-tree", "kd-tree"},
+      {"bench --scenes lumpy,", "--scenes"},
+      {"bench --threads 0", "--threads"},
+      {"bench builtin:lumpy", "builtin:lumpy"},
+      {"calibrate --seed x", "--seed"},
+      {"calibrate --budget 5", "--budget"},
+  };
   for (const char* size :
        {"640", "0x10", "10x", "x10", "axb", "16385x1", "-1x5", "10x10x10", "10X10"})
-    expect_failure(run(render + " --size " + size), 2, "--size");
+    usage_errors.push_back({render + " --size " + size, "--size"});
   for (const char* camera :
        {"garbage", "eye=0,0,1;target=0,0,0;up=0,1,0", "eye=0,0,1;target=0,0,0;up=0,1,0;fov=0",
         "eye=0,0,1;target=0,0,0;up=0,1,0;fov=180", "eye=0,0,0;target=0,0,0;up=0,1,0;fov=45",
@@ -317,13 +316,11 @@ TEST(Cli, UsageErrorsExitTwo) {
         "eye=0,0,1;target=0,0,0;up=0,1,0;fov=45;fov=50",
         "eye=0,0,1e39;target=0,0,0;up=0,1,0;fov=45",
         "eye=0,0,1;target=0,0,0;up=0,1,0;fov=45;zoom=2"})
-    expect_failure(run(render + " --camera " + quoted(camera)), 2, "--camera");
-  expect_failure(run("bench --accels bvh,kd-tree"), 2, "kd-tree");
-  expect_failure(run("bench --scenes lumpy,"), 2, "--scenes");
-  expect_failure(run("bench --threads 0"), 2, "--threads");
-  expect_failure(run("bench builtin:lumpy"), 2, "builtin:lumpy");
-  expect_failure(run("calibrate --seed x"), 2, "--seed");
-  expect_failure(run("calibrate --budget 5"), 2, "--budget");
+    usage_errors.push_back({render + " --camera " + quoted(camera), "--camera"});
+  for (const auto& [args, mention] : usage_errors) {
+    SCOPED_TRACE(args);
+    expect_failure(run(args), 2, mention);
+  }
 }
 
 TEST(Cli, BenchOutputDirectoryThatCannotBeMadeExitsOne) {
@@ -466,8 +463,8 @@ TEST(Cli, RenderWritesPngOfRequestedSize) {
 // A quad covering y <= 0 of the plane z = 0, seen from (0,0,5) with a 90° field of view:
 // the top half of the image looks above the quad's edge (background), the bottom half at it.
 TEST(Cli, RenderShowsSurfaceAgainstBackground) {
-  const std::string scene = temp_path("quad.obj");
-  spit(scene, "v -100 -100 0\nv 100 -100 0\nv 100 0 0\nv -100 0 0\nf 1 2 3 4\n");
+  const std::string scene = write_temp_file(
+      "quad.obj", "v -100 -100 0\nv 100 -100 0\nv 100 0 0\nv -100 0 0\nf 1 2 3 4\n");
   for (const char* spp : {"1", "4"}) {
     SCOPED_TRACE(spp);
     const std::string out = temp_path("quad.png");

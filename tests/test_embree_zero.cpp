@@ -16,11 +16,10 @@
 #include <vector>
 
 #include "core/accel/accelerator.h"
-#include "core/accel/brute.h"
 #include "core/base/error.h"
 #include "core/geometry/kernel.h"
 #include "core/geometry/ray_io.h"
-#include "tests/test_util.h"
+#include "tests/cases.h"
 
 namespace gs {
 namespace {
@@ -66,12 +65,7 @@ bool close_t(const Scene& scene, const Ray& ray, int32_t id, float a, float b) {
   return std::abs(double(a) - double(b)) <= t_tolerance(scene, ray, id, b);
 }
 
-struct Case {
-  std::string name;
-  Scene scene;
-  std::vector<Ray> rays;
-  std::vector<Hit> expected;  // brute's
-};
+using Case = test::BruteCase;
 
 Scene with_degenerates() {
   // Degenerate triangles (a repeated corner, three collinear corners) between real ones:
@@ -84,32 +78,18 @@ Scene with_degenerates() {
   return test::merge(scene, test::make_soup(5, 300, glm::vec3(-1.5f), glm::vec3(1.5f), 0.2f));
 }
 
-std::vector<Case>& cases() {
-  static std::vector<Case> all = [] {
-    std::vector<std::pair<std::string, Scene>> scenes;
-    scenes.emplace_back("pyramid", make_builtin_scene("pyramid"));
-    scenes.emplace_back(
-        "sphere+soup",
-        test::merge(test::make_sphere({0.3f, -0.2f, 0.1f}, 1.0f, 24, 48),
-                    test::make_soup(11, 1500, glm::vec3(-1.5f), glm::vec3(1.5f), 0.1f)));
-    scenes.emplace_back(
-        "far soup", test::transformed(test::make_soup(2, 2000, glm::vec3(-1), glm::vec3(1), 0.08f),
-                                      100.0f, glm::vec3(5000, -300, 20)));
-    scenes.emplace_back("degenerates", with_degenerates());
-    std::vector<Case> out;
-    for (auto& [name, scene] : scenes) {
-      Case c{name, scene, {}, {}};
-      const Box box = scene.bounds();
-      for (const auto& set : {test::camera_rays(box, 80, 60), test::random_chords(box, 1, 5000),
-                              test::axis_parallel_rays(box, 2, 3000)})
-        c.rays.insert(c.rays.end(), set.begin(), set.end());
-      BruteForce brute;
-      brute.build(c.scene);
-      c.expected = test::trace_all(brute, c.rays, 2);
-      out.push_back(std::move(c));
-    }
-    return out;
-  }();
+const std::vector<Case>& cases() {
+  static const std::vector<Case> all = test::brute_cases(
+      {{"pyramid", make_builtin_scene("pyramid")},
+       {"sphere+soup", test::sphere_in_soup()},
+       {"far soup", test::transformed(test::make_soup(2, 2000, glm::vec3(-1), glm::vec3(1), 0.08f),
+                                      100.0f, glm::vec3(5000, -300, 20))},
+       {"degenerates", with_degenerates()}},
+      [](const test::NamedScene& s) {
+        return test::mixed_rays(
+            s.scene,
+            {.camera_width = 80, .camera_height = 60, .chords = 5000, .axis_parallel = 3000});
+      });
   return all;
 }
 

@@ -2,122 +2,69 @@
 // every preset of its parameters, lazy or eager, with one thread or two.
 #include <gtest/gtest.h>
 
-#include <map>
-#include <memory>
 #include <set>
 
-#include "core/accel/brute.h"
 #include "core/accel/grid1d/grid1d.h"
 #include "core/accel/walk.h"
-#include "tests/test_util.h"
+#include "tests/cases.h"
 
 namespace gs {
 namespace {
 
 using Case = test::BruteCase;
 
-std::vector<Case>& cases() {
-  static std::vector<Case> all = [] {
-    std::vector<std::pair<std::string, Scene>> scenes;
-    scenes.emplace_back("pyramid", make_builtin_scene("pyramid"));
-    scenes.emplace_back(
-        "sphere+soup",
-        test::merge(test::make_sphere({0.3f, -0.2f, 0.1f}, 1.0f, 24, 48),
-                    test::make_soup(11, 1500, glm::vec3(-1.5f), glm::vec3(1.5f), 0.1f)));
-    scenes.emplace_back("stadium", test::stadium_scene(2500));
-    scenes.emplace_back("wall planes", test::wall_planes_scene());
-    std::vector<Case> out;
-    for (auto& [name, scene] : scenes) {
-      Case c{name, scene, {}, {}};
-      const Box box = scene.bounds();
-      for (const auto& set :
-           {test::camera_rays(box, 110, 100), test::random_chords(box, 1, 10000),
-            test::axis_parallel_rays(box, 2, 6000), test::edge_and_vertex_rays(scene, 3, 6000)})
-        c.rays.insert(c.rays.end(), set.begin(), set.end());
-      c.expected = test::brute_answers(c.scene, c.rays);
-      out.push_back(std::move(c));
-    }
-    return out;
-  }();
+const std::vector<Case>& cases() {
+  static const std::vector<Case> all = test::brute_cases(
+      test::comparison_scenes(2500, test::wall_planes_scene()), [](const test::NamedScene& s) {
+        return test::mixed_rays(s.scene, {.camera_width = 110,
+                                          .camera_height = 100,
+                                          .chords = 10000,
+                                          .axis_parallel = 6000,
+                                          .edges_and_vertices = 6000});
+      });
   return all;
 }
 
-struct Preset {
-  int max_granularity;
-  AxisRule axis;
-  bool eager;
-  int threads;
-};
+// A preset: grid1d with one maximum granularity and axis rule, lazy or eager, traced by one
+// thread or two; the two-thread presets run the sampling pass first, as the command line
+// does.
+test::StructureRun preset(int max_granularity, AxisRule axis, bool eager, int threads) {
+  AccelParams params;
+  params.max_granularity = max_granularity;
+  params.axis = axis;
+  return {"grid1d", params, threads == 2, eager, threads};
+}
 
-std::string preset_name(const testing::TestParamInfo<Preset>& info) {
-  const Preset& p = info.param;
+std::string preset_name(const testing::TestParamInfo<test::StructureRun>& info) {
+  const test::StructureRun& p = info.param;
   std::string name = "g";  // built by appending: GCC 12 warns falsely on "literal" + string
-  name += std::to_string(p.max_granularity);
-  name += p.axis == AxisRule::alternate ? "_alternate" : "_cost";
+  name += std::to_string(p.params.max_granularity);
+  name += p.params.axis == AxisRule::alternate ? "_alternate" : "_cost";
   name += p.eager ? "_eager" : "_lazy";
   name += "_t" + std::to_string(p.threads);
   return name;
 }
 
-class Grid1DMatchesBrute : public testing::TestWithParam<Preset> {};
-
-// The preset's structure over the case's scene; half the presets (the two-thread ones) run
-// the sampling pass first, as the command line does.
-std::unique_ptr<Grid1D> preset_grid(const Preset& preset, const Case& c) {
-  AccelParams params;
-  params.max_granularity = preset.max_granularity;
-  params.axis = preset.axis;
-  auto grid = std::make_unique<Grid1D>(params);
-  grid->build(c.scene);
-  if (preset.threads == 2) test::run_sampling_pass(*grid, c.rays, 64);
-  if (preset.eager) grid->build_all();
-  return grid;
-}
+class Grid1DMatchesBrute : public testing::TestWithParam<test::StructureRun> {};
 
 TEST_P(Grid1DMatchesBrute, SameIdAndTOnEveryRay) {
-  const Preset& preset = GetParam();
-  size_t checked = 0;
-  for (const Case& c : cases()) {
-    const auto grid = preset_grid(preset, c);
-    const std::vector<Hit> hits = test::trace_all(*grid, c.rays, preset.threads);
-    size_t mismatches = 0;
-    for (size_t i = 0; i < hits.size(); ++i) {
-      if (hits[i] == c.expected[i]) continue;
-      if (++mismatches <= 5)
-        ADD_FAILURE() << c.name << " ray " << i << ": grid1d id " << hits[i].id << " t "
-                      << hits[i].t << ", brute id " << c.expected[i].id << " t " << c.expected[i].t;
-    }
-    EXPECT_EQ(mismatches, 0u) << c.name;
-    const StructureStats stats = grid->stats();
-    EXPECT_GT(*stats.voxels_subdivided, 0u) << c.name << ": the grid never subdivided";
-    checked += hits.size();
-  }
+  const size_t checked = test::expect_brute_answers(
+      cases(), GetParam(), test::Answers::nearest, [](const Case& c, const Accelerator& grid) {
+        EXPECT_GT(*grid.stats().voxels_subdivided, 0u) << c.name << ": the grid never subdivided";
+      });
   RecordProperty("rays_checked", int(checked));
 }
 
 TEST_P(Grid1DMatchesBrute, AnyHitAgreesWithNearestHit) {
-  const Preset& preset = GetParam();
-  for (const Case& c : cases()) {
-    const auto grid = preset_grid(preset, c);
-    const std::vector<Hit> hits = test::trace_all(*grid, c.rays, preset.threads, true);
-    size_t mismatches = 0;
-    for (size_t i = 0; i < hits.size(); ++i) {
-      const bool ok =
-          hits[i].found() == c.expected[i].found() &&
-          (!hits[i].found() || (hits[i].t > c.rays[i].tmin && hits[i].t <= c.rays[i].tmax &&
-                                hits[i].t >= c.expected[i].t));
-      mismatches += !ok;
-    }
-    EXPECT_EQ(mismatches, 0u) << c.name;
-  }
+  test::expect_brute_answers(cases(), GetParam(), test::Answers::any_hit);
 }
 
-std::vector<Preset> presets() {
-  std::vector<Preset> out;
+std::vector<test::StructureRun> presets() {
+  std::vector<test::StructureRun> out;
   for (int g : {2, 20, 64})
     for (AxisRule axis : {AxisRule::alternate, AxisRule::cost})
       for (bool eager : {false, true})
-        for (int threads : {1, 2}) out.push_back({g, axis, eager, threads});
+        for (int threads : {1, 2}) out.push_back(preset(g, axis, eager, threads));
   return out;
 }
 
@@ -151,12 +98,6 @@ TEST(Grid1DBuild, LazyTwoThreadsBuildTheSameVoxelsAsEager) {
     }
   EXPECT_EQ(lazy_cuts, eager_cuts);
 }
-
-}  // namespace
-}  // namespace gs
-
-namespace gs {
-namespace {
 
 // The recorded walk is the traversal's own: it ends on intersect()'s hit, its cells are
 // boxes the ray really passes through, one after the other through shared walls, and its
@@ -208,12 +149,6 @@ TEST(Grid1DWalk, RecordsTheCellsTheRayCrosses) {
   EXPECT_GT(multi_cell, 100u);
   RecordProperty("cells_recorded", int(cells));
 }
-
-}  // namespace
-}  // namespace gs
-
-namespace gs {
-namespace {
 
 // Every ray that enters the scene box goes down through the (cut) root once, so the root's
 // traversal state is first used by exactly those rays: an independent count by clipping.

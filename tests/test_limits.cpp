@@ -7,7 +7,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <functional>
 #include <limits>
 
@@ -17,7 +16,7 @@
 #include "core/accel/octree.h"
 #include "core/accel/uniform_grid.h"
 #include "core/base/error.h"
-#include "tests/test_util.h"
+#include "tests/cases.h"
 
 namespace gs {
 namespace {
@@ -25,24 +24,10 @@ namespace {
 // ---------------------------------------------------------------------------------------
 // Scene files and counts
 
-std::string write_bytes(const std::string& name, const std::string& bytes) {
-  const std::string path = test::temp_path(name);
-  std::ofstream(path, std::ios::binary) << bytes;
-  return path;
-}
-
-// The InputError message `run` throws ("" when it throws none).
-std::string input_error(const std::function<void()>& run) {
-  try {
-    run();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::input_error;
 
 TEST(SceneLimits, FileSizeIsCheckedBeforeReading) {
-  const std::string path = write_bytes("limit.obj", std::string(1000, '#'));
+  const std::string path = test::write_temp_file("limit.obj", std::string(1000, '#'));
   EXPECT_EQ(detail::read_scene_file(path, 1000, 1000).size(), 1000u);  // at the limit: read
   EXPECT_EQ(input_error([&] { detail::read_scene_file(path, 1000, 999); }),
             path + ": file is larger than the 999-byte limit");
@@ -155,40 +140,25 @@ TEST(ParameterLimits, CommandLineReportsThemWithExitStatusTwo) {
 
 bool is_lazy(const std::string& name) { return name == "grid1d" || name == "grid3d"; }
 
-// Builds as the command line does: build, the sampling pass over every 16th ray, then
-// (eager) everything the rays could reach.
+// Built as the command line builds: build, the sampling pass over every 16th ray, then
+// (eager) everything the rays could reach; traced by two threads.
+test::StructureRun run_of(const std::string& name, AccelParams params, bool eager) {
+  params.sample_every = 16;
+  return {name, params, true, eager, 2};
+}
+
 std::unique_ptr<Accelerator> built(const std::string& name, const AccelParams& params,
                                    const Scene& scene, const std::vector<Ray>& rays, bool eager) {
-  auto accel = make_accelerator(name, params);
-  accel->build(scene);
-  test::run_sampling_pass(*accel, rays, 16);
-  if (eager) accel->build_all();
-  return accel;
+  return test::build_structure(run_of(name, params, eager), scene, rays);
 }
 
-// Rays whose answers differ from brute's (the first few reported).
-size_t mismatches(const std::string& what, const std::vector<Hit>& hits,
-                  const std::vector<Hit>& expected) {
-  size_t bad = 0;
-  for (size_t i = 0; i < hits.size(); ++i)
-    if (!(hits[i] == expected[i]) && ++bad <= 3)
-      ADD_FAILURE() << what << ": ray " << i << " hit " << hits[i].id << " t " << hits[i].t
-                    << ", brute " << expected[i].id << " t " << expected[i].t;
-  return bad;
-}
-
-// Lazy structures traced by two threads, before and after building everything; the others
-// by two threads.
+// Lazy structures traced before and after building everything; the others once: the
+// (run, ray) pairs whose answers differ from brute's `expected`.
 size_t disagreements(const std::string& name, const AccelParams& params, const Scene& scene,
                      const std::vector<Ray>& rays, const std::vector<Hit>& expected) {
-  size_t bad = 0;
-  for (const bool eager : {false, true}) {
-    if (eager && !is_lazy(name)) continue;
-    const auto accel = built(name, params, scene, rays, eager);
-    bad +=
-        mismatches(name + (eager ? " eager" : " lazy"), test::trace_all(*accel, rays, 2), expected);
-  }
-  return bad;
+  std::vector<test::StructureRun> runs = {run_of(name, params, false)};
+  if (is_lazy(name)) runs.push_back(run_of(name, params, true));
+  return test::disagreements(scene, rays, runs, expected);
 }
 
 std::vector<Ray> mixed_rays(const Scene& scene, int count) {
@@ -197,20 +167,20 @@ std::vector<Ray> mixed_rays(const Scene& scene, int count) {
   for (int a = 0; a < 3; ++a)
     if (box.hi[a] - box.lo[a] < 1e-3f * (box.hi - box.lo)[(a + 1) % 3])
       box.lo[a] -= 1.0f, box.hi[a] += 1.0f;
-  std::vector<Ray> rays = test::camera_rays(box, 30, 30);
-  for (const auto& set :
-       {test::random_chords(box, 5, count), test::axis_parallel_rays(box, 6, count),
-        test::edge_and_vertex_rays(scene, 7, count)})
-    rays.insert(rays.end(), set.begin(), set.end());
-  return rays;
+  return test::mixed_rays(scene, box,
+                          {.camera_width = 30,
+                           .camera_height = 30,
+                           .chords = count,
+                           .axis_parallel = count,
+                           .edges_and_vertices = count,
+                           .chord_seed = 5,
+                           .axis_seed = 6,
+                           .edge_seed = 7});
 }
 
 // --- Memory budget ---------------------------------------------------------------------
 
-Scene budget_scene() {
-  return test::merge(test::make_sphere({0.1f, 0.2f, -0.1f}, 1.0f, 16, 32),
-                     test::make_soup(21, 1500, glm::vec3(-1.2f), glm::vec3(1.2f), 0.08f));
-}
+Scene budget_scene() { return test::small_sphere_in_soup(1500); }
 
 class MemoryBudget : public testing::TestWithParam<std::string> {};
 
@@ -259,21 +229,6 @@ INSTANTIATE_TEST_SUITE_P(Structures, MemoryBudget, testing::ValuesIn(structure_n
 
 // --- Degenerate input ------------------------------------------------------------------
 
-Scene with_triangle(Scene scene, glm::vec3 a, glm::vec3 b, glm::vec3 c) {
-  const uint32_t base = uint32_t(scene.vertices.size());
-  scene.vertices.insert(scene.vertices.end(), {a, b, c});
-  scene.triangles.emplace_back(base, base + 1, base + 2);
-  return scene;
-}
-
-// 5,000 copies of one triangle among a few hundred others.
-Scene coincident_scene() {
-  Scene scene = test::make_soup(4, 300, glm::vec3(-1.0f), glm::vec3(1.0f), 0.1f);
-  scene = with_triangle(scene, {-0.5f, -0.5f, 0.2f}, {0.5f, -0.4f, 0.2f}, {0.0f, 0.6f, 0.25f});
-  for (int i = 1; i < 5000; ++i) scene.triangles.push_back(scene.triangles.back());
-  return scene;
-}
-
 // 2,000 triangles in the tilted plane x + y + z = 0 (no axis is flat, the cost model's
 // spread is all in two dimensions).
 Scene tilted_plane_scene() {
@@ -289,19 +244,6 @@ Scene flat_x_scene() {
   return scene;
 }
 
-// Long thin slivers filling a 100 x 2 x 2 box.
-Scene sliver_scene() {
-  Scene scene;
-  std::mt19937 rng(2);
-  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
-  for (int i = 0; i < 1500; ++i) {
-    const glm::vec3 a(unit(rng) * 50, unit(rng), unit(rng));
-    const glm::vec3 b(-a.x, a.y + unit(rng) * 1e-3f, a.z);
-    scene = with_triangle(scene, a, b, a + glm::vec3(0.0f, unit(rng) * 1e-2f, 1e-2f));
-  }
-  return scene;
-}
-
 // A small scene a million units from the origin, where float spacing is 1/16.
 Scene far_away_scene() {
   return test::transformed(budget_scene(), 100.0f, glm::vec3(1e6f, -2e6f, 1e6f));
@@ -313,10 +255,10 @@ struct DegenerateCase {
 };
 
 Scene degenerate_scene(const std::string& name) {
-  if (name == "coincident") return coincident_scene();
+  if (name == "coincident") return test::coincident_scene();
   if (name == "tilted_plane") return tilted_plane_scene();
   if (name == "flat_x") return flat_x_scene();
-  if (name == "slivers") return sliver_scene();
+  if (name == "slivers") return test::sliver_scene();
   return far_away_scene();
 }
 
@@ -367,7 +309,7 @@ INSTANTIATE_TEST_SUITE_P(Structures, Degenerate, testing::ValuesIn(degenerate_ca
 // The largest granularity and depth together on input no cut can separate: grid1d's
 // absolute granularity cap and cut rules end the build, with bounded memory.
 TEST(GranularityTimesDepth, TheLargestBothOnInseparableInputEnd) {
-  const Scene scene = coincident_scene();
+  const Scene scene = test::coincident_scene();
   const std::vector<Ray> rays = mixed_rays(scene, 800);
   AccelParams params;
   params.max_granularity = kMaxGranularity;
@@ -379,8 +321,9 @@ TEST(GranularityTimesDepth, TheLargestBothOnInseparableInputEnd) {
               (unsigned long long)accel->stats().memory_bytes);
   EXPECT_LE(depth_built(*accel), kMaxDepth);
   EXPECT_LT(accel->stats().memory_bytes, uint64_t{1} << 30);
-  EXPECT_EQ(
-      mismatches("grid1d", test::trace_all(*accel, rays, 2), test::brute_answers(scene, rays)), 0u);
+  EXPECT_EQ(test::count_mismatches("grid1d", test::trace_all(*accel, rays, 2),
+                                   test::brute_answers(scene, rays)),
+            0u);
 }
 
 }  // namespace

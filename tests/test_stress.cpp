@@ -4,59 +4,32 @@
 
 #include <cstdio>
 
-#include "core/accel/brute.h"
 #include "core/accel/grid1d/grid1d.h"
-#include "tests/test_util.h"
+#include "tests/cases.h"
 
 namespace gs {
 namespace {
 
 // Traces `rays` through brute and through grid1d (lazy and eager, 1 and 2 threads) and
-// counts the rays whose answers differ.
+// counts the (run, ray) pairs whose answers differ.
 size_t disagreements(const Scene& scene, const std::vector<Ray>& rays, AccelParams params = {}) {
-  BruteForce brute;
-  brute.build(scene);
-  const std::vector<Hit> expected = test::trace_all(brute, rays, 2);
-  size_t bad = 0;
-  for (bool eager : {false, true})
-    for (int threads : {1, 2}) {
-      Grid1D grid(params);
-      grid.build(scene);
-      if (eager) grid.build_all();
-      const std::vector<Hit> hits = test::trace_all(grid, rays, threads);
-      for (size_t i = 0; i < rays.size(); ++i)
-        if (!(hits[i] == expected[i])) {
-          if (++bad <= 3)
-            ADD_FAILURE() << "ray " << i << " (eager " << eager << ", threads " << threads
-                          << "): grid1d " << hits[i].id << " t " << hits[i].t << ", brute "
-                          << expected[i].id << " t " << expected[i].t;
-        }
-    }
-  return bad;
-}
-
-Scene sphere_and_soup() {
-  return test::merge(test::make_sphere({0.1f, 0.2f, -0.1f}, 1.0f, 16, 32),
-                     test::make_soup(21, 1200, glm::vec3(-1.2f), glm::vec3(1.2f), 0.08f));
+  return test::disagreements(scene, rays, test::lazy_and_eager_runs("grid1d", params));
 }
 
 std::vector<Ray> mixed_rays(const Scene& scene) {
-  std::vector<Ray> rays = test::camera_rays(scene.bounds(), 60, 60);
-  for (const auto& set : {test::random_chords(scene.bounds(), 5, 4000),
-                          test::axis_parallel_rays(scene.bounds(), 6, 3000),
-                          test::edge_and_vertex_rays(scene, 7, 3000)})
-    rays.insert(rays.end(), set.begin(), set.end());
-  return rays;
+  return test::mixed_rays(scene, {.camera_width = 60,
+                                  .camera_height = 60,
+                                  .chords = 4000,
+                                  .axis_parallel = 3000,
+                                  .edges_and_vertices = 3000,
+                                  .chord_seed = 5,
+                                  .axis_seed = 6,
+                                  .edge_seed = 7});
 }
 
 TEST(Stress, NegativeZeroAndTinyDirectionComponents) {
-  const Scene scene = sphere_and_soup();
-  std::vector<Ray> rays = test::random_chords(scene.bounds(), 8, 6000);
-  for (size_t i = 0; i < rays.size(); ++i) {
-    rays[i].dir[i % 3] = (i % 2) ? -0.0f : 1e-30f;
-    if (i % 5 == 0) rays[i].dir[(i + 1) % 3] = -1e-30f;
-  }
-  EXPECT_EQ(disagreements(scene, rays), 0u);
+  const Scene scene = test::small_sphere_in_soup();
+  EXPECT_EQ(disagreements(scene, test::negative_zero_and_tiny_chords(scene.bounds(), 8, 6000)), 0u);
 }
 
 // A unit-box scene cut with granularity 2 has its walls at multiples of 1/2^k, exact in
@@ -90,38 +63,20 @@ TEST(Stress, OriginsOnCellWallsAndRaysInsideWalls) {
 }
 
 TEST(Stress, MovedAndScaledScenes) {
-  const Scene base = sphere_and_soup();
-  for (const auto& [scale, offset] :
-       {std::pair{1e-4f, glm::vec3(0.0f)}, std::pair{1e4f, glm::vec3(0.0f)},
-        std::pair{1.0f, glm::vec3(1e6f, -1e6f, 1e6f)},
-        std::pair{1e3f, glm::vec3(1e6f, 2e6f, -3e6f)}}) {
-    const Scene scene = test::transformed(base, scale, offset);
-    EXPECT_EQ(disagreements(scene, mixed_rays(scene)), 0u)
-        << "scale " << scale << " offset " << offset.x;
-  }
+  const Scene base = test::small_sphere_in_soup();
+  std::vector<test::NamedScene> scenes = test::moved_and_scaled(base);
+  scenes.push_back(test::scaled_and_moved(base, 1e3f, glm::vec3(1e6f, 2e6f, -3e6f)));
+  for (const test::NamedScene& moved : scenes)
+    EXPECT_EQ(disagreements(moved.scene, mixed_rays(moved.scene)), 0u) << moved.name;
 }
 
 TEST(Stress, LongThinSlivers) {
-  Scene scene;
-  std::mt19937 rng(2);
-  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
-  for (int i = 0; i < 1500; ++i) {
-    const glm::vec3 a(unit(rng) * 50, unit(rng), unit(rng));
-    const glm::vec3 b(-a.x, a.y + unit(rng) * 1e-3f, a.z);
-    const glm::vec3 c = a + glm::vec3(0.0f, unit(rng) * 1e-2f, 1e-2f);
-    scene.vertices.insert(scene.vertices.end(), {a, b, c});
-    const uint32_t k = uint32_t(scene.vertices.size() - 3);
-    scene.triangles.emplace_back(k, k + 1, k + 2);
-  }
+  const Scene scene = test::sliver_scene();
   EXPECT_EQ(disagreements(scene, mixed_rays(scene)), 0u);
 }
 
 TEST(Stress, ThousandsOfCoincidentTriangles) {
-  Scene scene = test::make_soup(4, 300, glm::vec3(-1.0f), glm::vec3(1.0f), 0.1f);
-  const uint32_t base = uint32_t(scene.vertices.size());
-  scene.vertices.insert(scene.vertices.end(),
-                        {{-0.5f, -0.5f, 0.2f}, {0.5f, -0.4f, 0.2f}, {0.0f, 0.6f, 0.25f}});
-  for (int i = 0; i < 5000; ++i) scene.triangles.emplace_back(base, base + 1, base + 2);
+  const Scene scene = test::coincident_scene();
   EXPECT_EQ(disagreements(scene, mixed_rays(scene)), 0u);
   Grid1D grid(AccelParams{});
   grid.build(scene);
@@ -130,9 +85,7 @@ TEST(Stress, ThousandsOfCoincidentTriangles) {
 }
 
 TEST(Stress, EverythingInOnePlaneAndZeroExtent) {
-  Scene scene =
-      test::make_soup(9, 3000, glm::vec3(-1.0f, -1.0f, 0.0f), glm::vec3(1.0f, 1.0f, 0.0f), 0.05f);
-  for (glm::vec3& v : scene.vertices) v.z = 0.0f;
+  const Scene scene = test::flat_scene();
   Grid1D grid(AccelParams{});
   grid.build(scene);
   grid.build_all();
@@ -141,41 +94,20 @@ TEST(Stress, EverythingInOnePlaneAndZeroExtent) {
     if (grid.voxel(id).status.load() == Grid1D::kSplit) {
       ASSERT_NE(grid.voxel(id).axis, 2);
     }
-  std::vector<Ray> rays = test::random_chords({{-1, -1, -1}, {1, 1, 1}}, 3, 8000);
-  const auto edges = test::edge_and_vertex_rays(scene, 4, 4000);
-  rays.insert(rays.end(), edges.begin(), edges.end());
-  EXPECT_EQ(disagreements(scene, rays), 0u);
+  EXPECT_EQ(disagreements(scene, test::flat_scene_rays(scene, 8000, 4000)), 0u);
 }
 
 TEST(Stress, EmptySceneOneTriangleAndNoRays) {
-  Scene empty;
-  std::vector<Ray> rays = test::random_chords({{-1, -1, -1}, {1, 1, 1}}, 3, 100);
-  Grid1D grid(AccelParams{});
-  grid.build(empty);
-  for (const Hit& hit : test::trace_all(grid, rays, 2)) EXPECT_EQ(hit, Hit{});
-  EXPECT_TRUE(test::trace_all(grid, {}, 2).empty());
-
-  Scene one;
-  one.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-  one.triangles = {{0, 1, 2}};
-  Grid1D single(AccelParams{});
-  single.build(one);
-  Ray ray;
-  ray.origin = {0.2f, 0.3f, -1.0f};
-  ray.dir = {0.0f, 0.0f, 2.0f};
-  auto context = single.make_context();
-  const Hit hit = single.intersect(ray, *context);
-  EXPECT_EQ(hit.id, 0);
-  EXPECT_FLOAT_EQ(hit.t, 0.5f);
-  EXPECT_FLOAT_EQ(hit.u, 0.2f);
-  EXPECT_FLOAT_EQ(hit.v, 0.3f);
+  test::expect_empty_and_one_triangle_answers(
+      "grid1d", test::random_chords({{-1, -1, -1}, {1, 1, 1}}, 3, 100));
+  const Scene one = test::one_triangle();
   EXPECT_EQ(disagreements(one, mixed_rays(one)), 0u);
 }
 
 // A budget too small for the structure leaves voxels uncut (and says so); the answers stay
 // brute's.
 TEST(Stress, MemoryBudgetLeavesVoxelsUncutButAnswersStayExact) {
-  const Scene scene = sphere_and_soup();
+  const Scene scene = test::small_sphere_in_soup();
   AccelParams params;
   params.memory_budget = 64 << 10;
   EXPECT_EQ(disagreements(scene, mixed_rays(scene), params), 0u);
@@ -194,14 +126,7 @@ TEST(Stress, MemoryBudgetLeavesVoxelsUncutButAnswersStayExact) {
 // Rays that see only one corner of a large scene build a small part of what --eager does.
 TEST(Laziness, PartialViewBuildsFarFewerNodes) {
   const Scene scene = test::make_soup(17, 60000, glm::vec3(-10.0f), glm::vec3(10.0f), 0.1f);
-  std::vector<Ray> rays;
-  for (int y = 0; y < 100; ++y)
-    for (int x = 0; x < 100; ++x) {
-      Ray ray;
-      ray.origin = {-9.0f + x * 0.01f, -9.0f + y * 0.01f, -11.0f};
-      ray.dir = {0.0f, 0.0f, 1.0f};
-      rays.push_back(ray);
-    }
+  const std::vector<Ray> rays = test::corner_view_rays(100);
   Grid1D lazy(AccelParams{}), eager(AccelParams{});
   lazy.build(scene);
   eager.build(scene);

@@ -6,42 +6,39 @@
 
 #include <cstdio>
 #include <glm/vec2.hpp>
-#include <memory>
 
-#include "core/accel/brute.h"
 #include "core/accel/octree.h"
 #include "core/accel/uniform_grid.h"
-#include "tests/test_util.h"
+#include "tests/cases.h"
 
 namespace gs {
 namespace {
 
-struct Setting {
-  std::string accel;  // "uniform" or "octree"
-  double density = 0.0;
-  int depth = 0;
-  int leaf = 0;
-  int threads = 1;
-};
-
-std::unique_ptr<Accelerator> make(const Setting& s, const Scene& scene) {
+// The uniform grid at one density, or the octree with one depth cap and leaf size; traced
+// by one thread or two.
+test::StructureRun uniform_run(double density, int threads) {
   AccelParams params;
-  params.density = s.density;
-  params.max_depth = s.depth;
-  params.leaf_size = s.leaf;
-  auto accel = make_accelerator(s.accel, params);
-  accel->build(scene);
-  return accel;
+  params.density = density;
+  return {"uniform", params, false, false, threads};
 }
 
-std::string setting_name(const testing::TestParamInfo<Setting>& info) {
-  const Setting& s = info.param;
+test::StructureRun octree_run(int depth, int leaf, int threads) {
+  AccelParams params;
+  params.max_depth = depth;
+  params.leaf_size = leaf;
+  return {"octree", params, false, false, threads};
+}
+
+std::string setting_name(const testing::TestParamInfo<test::StructureRun>& info) {
+  const test::StructureRun& s = info.param;
   std::string name = s.accel;  // built by appending: GCC 12 warns falsely on "literal" + string
   if (s.accel == "uniform") {
     name += "_density";
-    name += s.density == 0.0 ? "default" : std::to_string(int(s.density * 10)) + "tenths";
+    name +=
+        s.params.density == 0.0 ? "default" : std::to_string(int(s.params.density * 10)) + "tenths";
   } else {
-    name += "_depth" + std::to_string(s.depth) + "_leaf" + std::to_string(s.leaf);
+    name += "_depth" + std::to_string(s.params.max_depth) + "_leaf" +
+            std::to_string(s.params.leaf_size);
   }
   name += "_t" + std::to_string(s.threads);
   return name;
@@ -88,82 +85,43 @@ std::vector<Ray> in_plane_rays(uint32_t seed, int count) {
   return rays;
 }
 
-std::vector<Case>& cases() {
-  static std::vector<Case> all = [] {
-    std::vector<std::pair<std::string, Scene>> scenes;
-    scenes.emplace_back("pyramid", make_builtin_scene("pyramid"));
-    scenes.emplace_back(
-        "sphere+soup",
-        test::merge(test::make_sphere({0.3f, -0.2f, 0.1f}, 1.0f, 24, 48),
-                    test::make_soup(11, 1500, glm::vec3(-1.5f), glm::vec3(1.5f), 0.1f)));
-    scenes.emplace_back("stadium", test::stadium_scene(2500));
-    scenes.emplace_back("wall planes", wall_planes());
-    std::vector<Case> out;
-    for (auto& [name, scene] : scenes) {
-      Case c{name, scene, {}, {}};
-      const Box box = scene.bounds();
-      for (const auto& set :
-           {test::camera_rays(box, 80, 75), test::random_chords(box, 1, 6000),
-            test::axis_parallel_rays(box, 2, 4000), test::edge_and_vertex_rays(scene, 3, 5000)})
-        c.rays.insert(c.rays.end(), set.begin(), set.end());
-      if (name == "wall planes") {
-        const auto planar = in_plane_rays(4, 3000);
-        c.rays.insert(c.rays.end(), planar.begin(), planar.end());
-      }
-      c.expected = test::brute_answers(c.scene, c.rays);
-      out.push_back(std::move(c));
-    }
-    return out;
-  }();
+const std::vector<Case>& cases() {
+  static const std::vector<Case> all = test::brute_cases(
+      test::comparison_scenes(2500, wall_planes()), [](const test::NamedScene& s) {
+        std::vector<Ray> rays = test::mixed_rays(s.scene, {.camera_width = 80,
+                                                           .camera_height = 75,
+                                                           .chords = 6000,
+                                                           .axis_parallel = 4000,
+                                                           .edges_and_vertices = 5000});
+        if (s.name == "wall planes") {
+          const auto planar = in_plane_rays(4, 3000);
+          rays.insert(rays.end(), planar.begin(), planar.end());
+        }
+        return rays;
+      });
   return all;
 }
 
-class MatchesBrute : public testing::TestWithParam<Setting> {};
+class MatchesBrute : public testing::TestWithParam<test::StructureRun> {};
 
 TEST_P(MatchesBrute, SameIdTAndUvOnEveryRay) {
-  const Setting& setting = GetParam();
-  size_t checked = 0;
-  for (const Case& c : cases()) {
-    const auto accel = make(setting, c.scene);
-    const std::vector<Hit> hits = test::trace_all(*accel, c.rays, setting.threads);
-    size_t mismatches = 0;
-    for (size_t i = 0; i < hits.size(); ++i) {
-      if (hits[i] == c.expected[i]) continue;
-      if (++mismatches <= 5)
-        ADD_FAILURE() << c.name << " ray " << i << ": " << setting.accel << " id " << hits[i].id
-                      << " t " << hits[i].t << ", brute id " << c.expected[i].id << " t "
-                      << c.expected[i].t;
-    }
-    EXPECT_EQ(mismatches, 0u) << c.name;
-    EXPECT_GT(*accel->stats().leaves, 1u) << c.name << ": nothing was subdivided";
-    checked += hits.size();
-  }
+  const size_t checked = test::expect_brute_answers(
+      cases(), GetParam(), test::Answers::nearest, [](const Case& c, const Accelerator& accel) {
+        EXPECT_GT(*accel.stats().leaves, 1u) << c.name << ": nothing was subdivided";
+      });
   RecordProperty("rays_checked", int(checked));
 }
 
 TEST_P(MatchesBrute, AnyHitFindsAHitIffBruteDoes) {
-  const Setting& setting = GetParam();
-  for (const Case& c : cases()) {
-    const auto accel = make(setting, c.scene);
-    const std::vector<Hit> hits = test::trace_all(*accel, c.rays, setting.threads, true);
-    size_t mismatches = 0;
-    for (size_t i = 0; i < hits.size(); ++i) {
-      const bool ok =
-          hits[i].found() == c.expected[i].found() &&
-          (!hits[i].found() || (hits[i].t > c.rays[i].tmin && hits[i].t <= c.rays[i].tmax &&
-                                hits[i].t >= c.expected[i].t));
-      mismatches += !ok;
-    }
-    EXPECT_EQ(mismatches, 0u) << c.name;
-  }
+  test::expect_brute_answers(cases(), GetParam(), test::Answers::any_hit);
 }
 
-std::vector<Setting> settings() {
-  std::vector<Setting> out;
+std::vector<test::StructureRun> settings() {
+  std::vector<test::StructureRun> out;
   for (int threads : {1, 2}) {
-    for (double density : {0.0, 0.5, 4.0}) out.push_back({"uniform", density, 0, 0, threads});
+    for (double density : {0.0, 0.5, 4.0}) out.push_back(uniform_run(density, threads));
     for (int depth : {3, 6, 8})
-      for (int leaf : {1, 4, 16}) out.push_back({"octree", 0.0, depth, leaf, threads});
+      for (int leaf : {1, 4, 16}) out.push_back(octree_run(depth, leaf, threads));
   }
   return out;
 }
@@ -171,64 +129,36 @@ std::vector<Setting> settings() {
 INSTANTIATE_TEST_SUITE_P(Settings, MatchesBrute, testing::ValuesIn(settings()), setting_name);
 
 // Numerical stress: each scene through both structures (two settings each, 1 and 2
-// threads); counts the rays whose answers differ from brute's.
+// threads); counts the (setting, ray) pairs whose answers differ from brute's.
 size_t disagreements(const Scene& scene, const std::vector<Ray>& rays) {
-  const std::vector<Hit> expected = test::brute_answers(scene, rays);
-  size_t bad = 0;
-  for (const Setting& s : {Setting{"uniform", 0.0, 0, 0, 1}, Setting{"uniform", 4.0, 0, 0, 2},
-                           Setting{"octree", 0.0, 0, 0, 2}, Setting{"octree", 0.0, 8, 1, 1}}) {
-    const auto accel = make(s, scene);
-    const std::vector<Hit> hits = test::trace_all(*accel, rays, s.threads);
-    for (size_t i = 0; i < rays.size(); ++i)
-      if (!(hits[i] == expected[i]) && ++bad <= 3)
-        ADD_FAILURE() << "ray " << i << " (" << s.accel << " depth " << s.depth << " density "
-                      << s.density << "): " << hits[i].id << " t " << hits[i].t << ", brute "
-                      << expected[i].id << " t " << expected[i].t;
-  }
-  return bad;
-}
-
-Scene sphere_and_soup() {
-  return test::merge(test::make_sphere({0.1f, 0.2f, -0.1f}, 1.0f, 16, 32),
-                     test::make_soup(21, 1200, glm::vec3(-1.2f), glm::vec3(1.2f), 0.08f));
+  return test::disagreements(
+      scene, rays,
+      {uniform_run(0.0, 1), uniform_run(4.0, 2), octree_run(0, 0, 2), octree_run(8, 1, 1)});
 }
 
 std::vector<Ray> mixed_rays(const Scene& scene) {
-  std::vector<Ray> rays = test::camera_rays(scene.bounds(), 50, 50);
-  for (const auto& set : {test::random_chords(scene.bounds(), 5, 3000),
-                          test::axis_parallel_rays(scene.bounds(), 6, 2000),
-                          test::edge_and_vertex_rays(scene, 7, 2000)})
-    rays.insert(rays.end(), set.begin(), set.end());
-  return rays;
+  return test::mixed_rays(scene, {.camera_width = 50,
+                                  .camera_height = 50,
+                                  .chords = 3000,
+                                  .axis_parallel = 2000,
+                                  .edges_and_vertices = 2000,
+                                  .chord_seed = 5,
+                                  .axis_seed = 6,
+                                  .edge_seed = 7});
 }
 
 TEST(Stress, NegativeZeroAndTinyDirectionComponents) {
-  const Scene scene = sphere_and_soup();
-  std::vector<Ray> rays = test::random_chords(scene.bounds(), 8, 5000);
-  for (size_t i = 0; i < rays.size(); ++i) {
-    rays[i].dir[i % 3] = (i % 2) ? -0.0f : 1e-30f;
-    if (i % 5 == 0) rays[i].dir[(i + 1) % 3] = -1e-30f;
-  }
-  EXPECT_EQ(disagreements(scene, rays), 0u);
+  const Scene scene = test::small_sphere_in_soup();
+  EXPECT_EQ(disagreements(scene, test::negative_zero_and_tiny_chords(scene.bounds(), 8, 5000)), 0u);
 }
 
 TEST(Stress, MovedAndScaledScenes) {
-  const Scene base = sphere_and_soup();
-  for (const auto& [scale, offset] :
-       {std::pair{1e-4f, glm::vec3(0.0f)}, std::pair{1e4f, glm::vec3(0.0f)},
-        std::pair{1.0f, glm::vec3(1e6f, -1e6f, 1e6f)}}) {
-    const Scene scene = test::transformed(base, scale, offset);
-    EXPECT_EQ(disagreements(scene, mixed_rays(scene)), 0u)
-        << "scale " << scale << " offset " << offset.x;
-  }
+  for (const test::NamedScene& moved : test::moved_and_scaled(test::small_sphere_in_soup()))
+    EXPECT_EQ(disagreements(moved.scene, mixed_rays(moved.scene)), 0u) << moved.name;
 }
 
 TEST(Stress, ThousandsOfCoincidentTrianglesEndWithBoundedMemory) {
-  Scene scene = test::make_soup(4, 300, glm::vec3(-1.0f), glm::vec3(1.0f), 0.1f);
-  const uint32_t base = uint32_t(scene.vertices.size());
-  scene.vertices.insert(scene.vertices.end(),
-                        {{-0.5f, -0.5f, 0.2f}, {0.5f, -0.4f, 0.2f}, {0.0f, 0.6f, 0.25f}});
-  for (int i = 0; i < 5000; ++i) scene.triangles.emplace_back(base, base + 1, base + 2);
+  const Scene scene = test::coincident_scene();
   EXPECT_EQ(disagreements(scene, mixed_rays(scene)), 0u);
   UniformGrid grid(AccelParams{});
   grid.build(scene);
@@ -245,43 +175,19 @@ TEST(Stress, ThousandsOfCoincidentTrianglesEndWithBoundedMemory) {
 }
 
 TEST(Stress, EverythingInOnePlane) {
-  Scene scene =
-      test::make_soup(9, 3000, glm::vec3(-1.0f, -1.0f, 0.0f), glm::vec3(1.0f, 1.0f, 0.0f), 0.05f);
-  for (glm::vec3& v : scene.vertices) v.z = 0.0f;
+  const Scene scene = test::flat_scene();
   UniformGrid grid(AccelParams{});
   grid.build(scene);
   EXPECT_EQ(grid.resolution()[2], 1u);  // one cell across the flat axis
   EXPECT_GT(grid.cell_count(), 1000u);
-  std::vector<Ray> rays = test::random_chords({{-1, -1, -1}, {1, 1, 1}}, 3, 6000);
-  const auto edges = test::edge_and_vertex_rays(scene, 4, 3000);
-  rays.insert(rays.end(), edges.begin(), edges.end());
-  EXPECT_EQ(disagreements(scene, rays), 0u);
+  EXPECT_EQ(disagreements(scene, test::flat_scene_rays(scene, 6000, 3000)), 0u);
 }
 
 TEST(Stress, EmptySceneOneTriangleAndNoRays) {
   const std::vector<Ray> rays = test::random_chords({{-1, -1, -1}, {1, 1, 1}}, 3, 100);
-  for (const std::string name : {"uniform", "octree"}) {
-    const auto empty = make({name}, Scene{});
-    for (const Hit& hit : test::trace_all(*empty, rays, 2)) EXPECT_EQ(hit, Hit{});
-    EXPECT_TRUE(test::trace_all(*empty, {}, 2).empty());
-
-    Scene one;
-    one.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-    one.triangles = {{0, 1, 2}};
-    const auto single = make({name}, one);
-    Ray ray;
-    ray.origin = {0.2f, 0.3f, -1.0f};
-    ray.dir = {0.0f, 0.0f, 2.0f};
-    auto context = single->make_context();
-    const Hit hit = single->intersect(ray, *context);
-    EXPECT_EQ(hit.id, 0) << name;
-    EXPECT_FLOAT_EQ(hit.t, 0.5f);
-    EXPECT_FLOAT_EQ(hit.u, 0.2f);
-    EXPECT_FLOAT_EQ(hit.v, 0.3f);
-  }
-  Scene one;
-  one.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-  one.triangles = {{0, 1, 2}};
+  for (const std::string name : {"uniform", "octree"})
+    test::expect_empty_and_one_triangle_answers(name, rays);
+  const Scene one = test::one_triangle();
   EXPECT_EQ(disagreements(one, mixed_rays(one)), 0u);
 }
 
@@ -304,7 +210,7 @@ TEST(Stress, ClosedSphereFarAwayShotFromInsideHasNoEscapes) {
   }
   const std::vector<Hit> expected = test::brute_answers(scene, rays);
   for (const std::string name : {"uniform", "octree"}) {
-    const auto accel = make({name}, scene);
+    const auto accel = test::build_structure({.accel = name}, scene);
     const std::vector<Hit> hits = test::trace_all(*accel, rays, 2);
     size_t escapes = 0, mismatches = 0;
     for (size_t i = 0; i < rays.size(); ++i) {
@@ -341,7 +247,7 @@ TEST(UniformGridBuild, ResolutionFollowsTriangleCountAspectAndDensity) {
 // Glassner's rule: only nodes at the depth cap, or whose cut would separate nothing, keep
 // more than leaf-size triangles; stats add up; --max-depth is capped.
 TEST(OctreeBuild, LeavesAreSmallUnlessAtTheDepthCap) {
-  const Scene scene = sphere_and_soup();
+  const Scene scene = test::small_sphere_in_soup();
   AccelParams params;
   params.max_depth = 5, params.leaf_size = 6;
   Octree octree(params);
@@ -378,7 +284,7 @@ TEST(OctreeBuild, LeavesAreSmallUnlessAtTheDepthCap) {
 TEST(Counters, TestsRejectionsAndSteps) {
   const Case& c = cases()[1];
   for (const std::string name : {"uniform", "octree"}) {
-    const auto accel = make({name}, c.scene);
+    const auto accel = test::build_structure({.accel = name}, c.scene);
     auto context = accel->make_context();
     for (const Ray& ray : c.rays) accel->intersect(ray, *context);
     const TraceCounters& counters = context->counters;

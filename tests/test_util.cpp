@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "core/accel/brute.h"
+#include "core/base/error.h"
 
 namespace gs::test {
 
@@ -70,6 +71,21 @@ Png load_png(const std::string& path) {
   png.rgba.assign(data, data + size_t(png.width) * size_t(png.height) * 4);
   stbi_image_free(data);
   return png;
+}
+
+std::string write_temp_file(const std::string& name, const std::string& bytes) {
+  const std::string path = temp_path(name);
+  std::ofstream(path, std::ios::binary) << bytes;
+  return path;
+}
+
+std::string input_error(const std::function<void()>& run) {
+  try {
+    run();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
 }
 
 Scene make_sphere(glm::vec3 centre, float radius, int rings, int segments) {

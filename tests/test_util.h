@@ -2,6 +2,7 @@
 // and ray sets made in code, and tracing a ray set through a structure.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <random>
 #include <string>
@@ -49,6 +50,11 @@ struct Png {
   const unsigned char* at(int x, int y) const { return &rgba[(size_t(y) * width + x) * 4]; }
 };
 Png load_png(const std::string& path);
+
+// `bytes` written to temp_path(name); returns that path.
+std::string write_temp_file(const std::string& name, const std::string& bytes);
+// The message of the InputError `run` throws ("" when it throws none).
+std::string input_error(const std::function<void()>& run);
 
 // A closed UV sphere with shared vertices (poles included), `rings` x `segments`.
 Scene make_sphere(glm::vec3 centre, float radius, int rings, int segments);

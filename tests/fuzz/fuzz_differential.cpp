@@ -19,6 +19,7 @@
 #include "core/trace/run.h"
 #include "tests/fuzz/differential.h"
 #include "tests/fuzz/fuzz_entries.h"
+#include "tests/structure_run.h"
 
 namespace gs::fuzz {
 namespace {
@@ -296,20 +297,6 @@ std::vector<Hit> trace(const Accelerator& accel, const std::vector<Ray>& rays, i
   return hits;
 }
 
-std::unique_ptr<Accelerator> build(const std::string& name, bool eager, const Scene& scene,
-                                   const std::vector<Ray>& rays, const StructureSettings& s) {
-  std::unique_ptr<Accelerator> accel = make_accelerator(name, s.params);
-  accel->build(scene);
-  if (s.sample && !rays.empty()) {
-    std::vector<Ray> subset;
-    for (size_t i = 0; i < rays.size(); i += size_t(s.params.sample_every))
-      subset.push_back(rays[i]);
-    accel->sample(subset, double(rays.size()));
-  }
-  if (eager) accel->build_all();
-  return accel;
-}
-
 struct Reference {
   std::vector<Hit> nearest;
   std::vector<bool> blocked;
@@ -383,7 +370,8 @@ void check_against_brute(const Scene& scene, const std::vector<Ray>& rays,
     for (const bool eager : {false, true}) {
       const std::string what = describe(name, eager, settings);
       try {
-        const auto accel = build(name, eager, scene, rays, settings);
+        const auto accel = test::build_structure(
+            {name, settings.params, settings.sample, eager, settings.threads}, scene, rays);
         std::vector<Hit> nearest, any;
         if (settings.any_hit_first) any = trace(*accel, rays, settings.threads, true);
         nearest = trace(*accel, rays, settings.threads, false);
