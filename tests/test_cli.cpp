@@ -614,8 +614,9 @@ TEST(Cli, StructureFlagTheStructureDoesNotReadIsExitTwo) {
                  "--max-granularity: structure 'uniform' does not use it");
   expect_failure(run(render + " --accel bvh --oracle " + quoted(temp_path("x.hits"))), 2,
                  "--oracle: structure 'bvh' does not use it");
-  const std::string costs = temp_path("ignored-costs.json");
-  spit(costs, R"({"intcost": 2, "repcost": 0.5, "travcost": 3, "vertcost": 4, "subcost": 5})");
+  const std::string costs = gs::test::write_temp_file(
+      "ignored-costs.json",
+      R"({"intcost": 2, "repcost": 0.5, "travcost": 3, "vertcost": 4, "subcost": 5})");
   expect_failure(run(render + " --accel octree --costs " + quoted(costs)), 2,
                  "--costs: structure 'octree' does not use it");
   const std::string stats = temp_path("density.json");
@@ -642,8 +643,9 @@ bool parses(const std::string& line) {
 }
 
 TEST(Cli, EachStructureTakesExactlyTheFlagsItReads) {
-  const std::string costs = temp_path("reader-costs.json");
-  spit(costs, R"({"intcost": 2, "repcost": 0.5, "travcost": 3, "vertcost": 4, "subcost": 5})");
+  const std::string costs = gs::test::write_temp_file(
+      "reader-costs.json",
+      R"({"intcost": 2, "repcost": 0.5, "travcost": 3, "vertcost": 4, "subcost": 5})");
   const std::map<std::string, std::string> value = {
       {"--intcost", "2"},         {"--repcost", "0.5"},     {"--travcost", "2"},
       {"--vertcost", "3"},        {"--subcost", "1"},       {"--costs", costs},
