@@ -118,10 +118,7 @@ struct Bvh::Builder {
   void make_leaf(uint32_t node, uint32_t begin, uint32_t end) {
     std::vector<uint32_t> leaf(ids.begin() + begin, ids.begin() + end);
     for (uint32_t& id : leaf) id |= kOnlyHere;
-    const Node& box = bvh.nodes_[node];
-    const double lo[3] = {box.lo[0], box.lo[1], box.lo[2]},
-                 hi[3] = {box.hi[0], box.hi[1], box.hi[2]};
-    bvh.nodes_[node].first = bvh.leaves_.add(leaf, bvh.input_, lo, hi);
+    bvh.nodes_[node].first = bvh.leaves_.add(leaf, verts);
     bvh.nodes_[node].count = end - begin;
     ++bvh.leaves_count_;
   }

@@ -338,7 +338,7 @@ bool NestedGrid::commit(const Plan& plan, uint32_t depth, uint32_t& grid_id) con
       for (int a = 0; a < 3; ++a) inside &= box[a] >= lo[a] && box[a + 3] <= hi[a];
       if (inside) id |= kOnlyHere;
     }
-    cell.leaf = leaves_.add(ids, input_, lo, hi);
+    cell.leaf = leaves_.add(ids, input_.triangles);
     if (cell.leaf == LeafStore::kFull) return false;
   }
   grid_id = uint32_t(g);

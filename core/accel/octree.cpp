@@ -98,7 +98,7 @@ uint32_t Octree::make_leaf(int depth, const uint32_t lo[3], const std::vector<ui
     for (int a = 0; a < 3; ++a) inside &= box[a] >= cell_lo[a] && box[a + 3] <= cell_hi[a];
     if (inside) id |= kOnlyHere;
   }
-  return leaves_.add(ids, input_, cell_lo, cell_hi);
+  return leaves_.add(ids, input_.triangles);
 }
 
 // Sorts the node's triangles into its 8 children by padded box overlap with the children's

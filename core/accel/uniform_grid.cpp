@@ -176,10 +176,7 @@ void UniformGrid::fill_cells() {
   for (size_t c = 0; c < counts.size(); ++c) {
     if (counts[c] == 0) continue;
     ids.assign(flat.begin() + int64_t(offsets[c]), flat.begin() + int64_t(offsets[c + 1]));
-    const uint64_t index[3] = {c % n_[0], (c / n_[0]) % n_[1], c / (uint64_t(n_[0]) * n_[1])};
-    double lo[3], hi[3];
-    for (int a = 0; a < 3; ++a) lo[a] = walls_[a][index[a]], hi[a] = walls_[a][index[a] + 1];
-    cell_leaf_[c] = leaves_.add(ids, input_, lo, hi);
+    cell_leaf_[c] = leaves_.add(ids, input_.triangles);
   }
 }
 

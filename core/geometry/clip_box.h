@@ -89,15 +89,18 @@ inline float next_float_up(float x) {
   return std::bit_cast<float>(x > 0.0f ? bits + 1 : bits - 1);
 }
 
+// The next float below x (toward -infinity); x itself for -infinity and NaN.
+inline float next_float_down(float x) { return -next_float_up(-x); }
+
 // The nearest floats at or below / at or above x: a double box rounded outward to float
 // still contains everything the double box did.
 inline float float_down(double x) {
   const float f = float(x);
-  return double(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+  return double(f) > x ? next_float_down(f) : f;
 }
 inline float float_up(double x) {
   const float f = float(x);
-  return double(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+  return double(f) < x ? next_float_up(f) : f;
 }
 
 // The box of `count` triangles' padded boxes (`boxes`: lo.xyz, hi.xyz each, as BuildInput

@@ -15,20 +15,17 @@ void LeafStore::reset(uint64_t max_bytes) {
   coords_.reset(max_bytes / 10 * 9);
 }
 
-uint32_t LeafStore::add(const std::vector<uint32_t>& ids, const BuildInput& input,
-                        const double lo[3], const double hi[3]) {
+uint32_t LeafStore::add(const std::vector<uint32_t>& ids,
+                        const std::vector<TriangleVerts>& triangles) {
   const auto n = uint32_t(ids.size());
   const size_t handle = ids_.append(size_t(n) + 1);
   if (handle == SIZE_MAX || handle >= kFull || !coords_.construct(9 * handle, 9 * (size_t(n) + 1)))
     return kFull;
   ids_[handle] = n;
-  content_box(
-      n, [&](uint32_t i) { return input.box(ids[i] & ~kOnlyHere); }, lo, hi, input.clip.padding,
-      &coords_[9 * handle]);
   float* coords = &coords_[9 * (handle + 1)];
   for (uint32_t i = 0; i < n; ++i) {
     ids_[handle + 1 + i] = ids[i];
-    const TriangleVerts& t = input.triangles[ids[i] & ~kOnlyHere];
+    const TriangleVerts& t = triangles[ids[i] & ~kOnlyHere];
     const glm::vec3* corners[3] = {&t.v0, &t.v1, &t.v2};
     for (int k = 0; k < 3; ++k)
       for (int a = 0; a < 3; ++a) coords[size_t(3 * k + a) * n + i] = (*corners[k])[a];
@@ -115,13 +112,13 @@ void force_kernel_isa(Isa isa) {
 Kernel kernel_for(Isa isa) {
   switch (isa) {
     case Isa::avx2:
-      return {4, test_lanes_avx2};
+      return {4, test_lanes_avx2, crossed_boxes_avx2};
     case Isa::avx512:
-      return {8, test_lanes_avx512};
+      return {8, test_lanes_avx512, crossed_boxes_avx512};
     case Isa::scalar:
       break;
   }
-  return {1, test_lanes_scalar};
+  return {1, test_lanes_scalar, crossed_boxes_sse2};
 }
 
 }  // namespace gs

@@ -11,6 +11,7 @@
 
 #include "core/accel/accelerator.h"
 #include "core/base/stable_array.h"
+#include "core/geometry/box_test.h"
 #include "core/geometry/kernel.h"
 #include "core/geometry/mailbox.h"
 #include "core/geometry/triangles.h"
@@ -22,13 +23,11 @@ namespace gs {
 inline constexpr uint32_t kOnlyHere = 1u << 31;
 
 // One leaf: triangle i's corner k (0..2), axis a (0..2) is coords[(3k + a) * count + i];
-// ids[i] is its id, with kOnlyHere possibly set; box (lo[3], hi[3]) holds what the leaf's
-// triangles can be hit at (content_box), or is null.
+// ids[i] is its id, with kOnlyHere possibly set.
 struct LeafView {
   const float* coords = nullptr;
   const uint32_t* ids = nullptr;
   uint32_t count = 0;
-  const float* box = nullptr;
 
   uint32_t id(uint32_t i) const { return ids[i] & ~kOnlyHere; }
   const float* corner(uint32_t i, int k) const { return coords + size_t(3 * k) * count + i; }
@@ -37,7 +36,7 @@ struct LeafView {
 // Leaves appended by one or more building threads, never moved (readers may be walking
 // others while a leaf is added). A leaf's handle is its position in the id arena, which
 // holds its count and then its ids; the coordinate arena grows in lockstep (9 floats per id
-// slot): at 9 * handle the leaf's content box, its coordinates from 9 * (handle + 1).
+// slot): the leaf's coordinates from 9 * (handle + 1).
 class LeafStore {
  public:
   // Address space for `max_bytes` of leaves (reserved, committed as leaves are written).
@@ -46,14 +45,11 @@ class LeafStore {
   // knows what its leaves take before it stores them. Only while nobody reads the store.
   void reset(uint64_t max_bytes);
   // Appends a leaf of the triangles `ids` (each with kOnlyHere where it applies; corners
-  // and padded boxes from `input`) for the cell lo..hi, and returns its handle, or kFull
-  // when the reservation is spent.
+  // from `triangles`) and returns its handle, or kFull when the reservation is spent.
   static constexpr uint32_t kFull = UINT32_MAX;
-  uint32_t add(const std::vector<uint32_t>& ids, const BuildInput& input, const double lo[3],
-               const double hi[3]);
+  uint32_t add(const std::vector<uint32_t>& ids, const std::vector<TriangleVerts>& triangles);
   LeafView view(uint32_t handle) const {
-    return {&coords_[9 * (size_t(handle) + 1)], &ids_[size_t(handle) + 1], ids_[handle],
-            &coords_[9 * size_t(handle)]};
+    return {&coords_[9 * (size_t(handle) + 1)], &ids_[size_t(handle) + 1], ids_[handle]};
   }
   // Bytes one leaf of n triangles takes.
   static uint64_t bytes_for(uint32_t n) { return uint64_t(n + 1) * 10 * sizeof(float); }
@@ -88,9 +84,12 @@ struct LaneHits {
 // lane's figures are the scalar intersect_triangle's, bit for bit.
 using LaneTest = uint32_t (*)(const LeafView& leaf, uint32_t first, uint32_t lanes,
                               const PreparedRay<KernelReal>& ray, float tmax, LaneHits& out);
+// A kernel: its leaf test and lanes, and the box test of the same instruction set
+// (core/geometry/box_test.h).
 struct Kernel {
   uint32_t lanes = 1;
   LaneTest test = nullptr;
+  BoxesTest boxes = nullptr;
 };
 Kernel kernel_for(Isa isa);
 
@@ -116,17 +115,18 @@ inline bool test_leaf(const LeafView& leaf, const Kernel& kernel,
   bool found = false;
   for (uint32_t first = 0; first < leaf.count; first += kernel.lanes) {
     const uint32_t width = std::min(kernel.lanes, leaf.count - first);
-    uint32_t lanes = (width == 32 ? 0u : 1u << width) - 1u;
+    uint32_t lanes = 0, tested = 0;
     for (uint32_t j = 0; j < width; ++j) {
       const uint32_t id = leaf.ids[first + j];
       if (!(id & kOnlyHere) && mailbox.already_tested(id, ray_id)) {
-        lanes &= ~(1u << j);
         ++counters.mailbox_rejections;
         record.rejected();
+      } else {
+        lanes |= 1u << j;
+        ++tested;
       }
     }
     if (lanes == 0) continue;
-    const uint32_t tested = uint32_t(std::popcount(lanes));
     counters.intersection_tests += tested;
     record.tested(tested);
     LaneHits out;

@@ -65,6 +65,7 @@ Grid1D::Grid1D(const AccelParams& params)
       nodes_(params.memory_budget),
       node_voxels_(params.memory_budget),
       refs_(params.memory_budget),
+      child_boxes_(params.memory_budget),
       leaves_(params.memory_budget),
       states_(std::min<uint64_t>(params.memory_budget, uint64_t{64} << 20)),
       state_rays_(std::min<uint64_t>(params.memory_budget, uint64_t{64} << 20)) {
@@ -216,9 +217,7 @@ uint32_t Grid1D::make_leaf(uint32_t id) const {
   const uint32_t count = voxels_[id].tri_count;
   const uint32_t unbuilt = child_ref::make(child_ref::kUnbuilt, id);
   if (!reserve_bytes(LeafStore::bytes_for(count))) return unbuilt;
-  double lo[3], hi[3];
-  voxel_box(id, lo, hi);
-  const uint32_t handle = leaves_.add(leaf_ids(id), input_, lo, hi);
+  const uint32_t handle = leaves_.add(leaf_ids(id), input_.triangles);
   if (handle == LeafStore::kFull || handle > child_ref::kMaxPayload) return unbuilt;
   return child_ref::make(child_ref::kLeaf, handle);
 }
@@ -398,15 +397,16 @@ uint32_t Grid1D::state_for(uint32_t axis, uint64_t granularity) const {
   return id;
 }
 
-// Publishes the cut's cells as new voxels and the voxel's walk node with its occupancy
-// words and child references; returns the node's reference, or kNone (the voxel stays a
+// Publishes the cut's cells as new voxels and the voxel's walk node with its cells'
+// references and content boxes; returns the node's reference, or kNone (the voxel stays a
 // leaf) when they do not fit the memory budget. The caller's release stores make all of it
 // visible to the threads that then walk into the voxel.
 uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
   const auto g = uint32_t(cut.granularity);
-  const uint32_t words = occupancy_words(g);
+  const uint32_t stride = box_stride(g);
   const uint64_t bytes = g * (sizeof(Voxel) + sizeof(Region)) + sizeof(Node) +
-                         sizeof(uint32_t) * (1 + words + g + cut.tris.size() + cut.samples.size());
+                         sizeof(uint32_t) * (1 + g + cut.tris.size() + cut.samples.size()) +
+                         sizeof(float) * 6 * stride;
   if (voxels_.size() + g >= size_t(child_ref::kMaxPayload) || !reserve_bytes(bytes)) {
     ++over_budget_;
     return kNone;
@@ -415,33 +415,30 @@ uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
   // fail only if one array alone outgrows it, and then the voxel stays a leaf.
   const size_t first_voxel = voxels_.append(g);
   const size_t node = nodes_.append(1);
-  const size_t refs = refs_.append(words + g);
+  const size_t refs = refs_.append(g);
+  const size_t boxes = child_boxes_.append(6 * size_t(stride));
   const size_t tri_base = tri_indices_.append(cut.tris.size());
   const size_t sample_base = sample_indices_.append(cut.samples.size());
   if (first_voxel == SIZE_MAX || node == SIZE_MAX || node >= child_ref::kMaxPayload ||
-      refs == SIZE_MAX || tri_base == SIZE_MAX || sample_base == SIZE_MAX ||
-      !regions_.construct(first_voxel, g) || !node_voxels_.construct(node, 1)) {
+      refs == SIZE_MAX || boxes == SIZE_MAX || boxes > UINT32_MAX || tri_base == SIZE_MAX ||
+      sample_base == SIZE_MAX || !regions_.construct(first_voxel, g) ||
+      !node_voxels_.construct(node, 1)) {
     ++over_budget_;
     return kNone;
   }
   std::copy(cut.tris.begin(), cut.tris.end(), &tri_indices_[tri_base]);
   std::copy(cut.samples.begin(), cut.samples.end(), &sample_indices_[sample_base]);
-  Region& region = regions_[id];
+  const Region& region = regions_[id];
   const int axis = cut.axis;
   const uint32_t state = state_for(uint32_t(axis), region.grid[axis] * g);
   Node& record = nodes_[node];
   record.first_cell = int64_t(region.cell[axis] * g);
   record.state = state;
   std::copy(region.above, region.above + 3, record.above);
-  record.children = uint32_t(refs + words);
+  record.children = uint32_t(refs);
+  record.boxes = uint32_t(boxes);
   record.granularity = uint16_t(g);
   record.axis = uint8_t(axis);
-  double lo[3], hi[3];
-  voxel_box(id, lo, hi);
-  const uint32_t tri_begin = voxels_[id].tri_begin;
-  content_box(
-      voxels_[id].tri_count, [&](uint32_t i) { return input_.box(tri_indices_[tri_begin + i]); },
-      lo, hi, input_.clip.padding, record.box);
   node_voxels_[node] = id;
 
   Voxel& voxel = voxels_[id];
@@ -451,8 +448,7 @@ uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
   voxel.first_child = uint32_t(first_voxel);
   link_children(id, cut, uint32_t(first_voxel), uint32_t(node));
   for (size_t i = 0; i < g; ++i) {
-    Voxel& child = voxels_[first_voxel + i];
-    child.tri_begin = uint32_t(tri_base + cut.tri_offsets[i]);
+    voxels_[first_voxel + i].tri_begin = uint32_t(tri_base + cut.tri_offsets[i]);
     Region& child_region = regions_[first_voxel + i];
     child_region.sample_begin = uint32_t(sample_base + cut.sample_offsets[i]);
     child_region.sample_count = cut.sample_offsets[i + 1] - cut.sample_offsets[i];
@@ -463,8 +459,10 @@ uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
 }
 
 // The cells' records: place, triangle counts, area estimate (§6.5), their references (empty
-// cells are leaves from birth: nothing to cut, ever) and the node's occupancy words.
-void Grid1D::link_children(uint32_t id, const Cut& cut, uint32_t first_child, uint32_t node) const {
+// cells are leaves from birth: nothing to cut, ever) and their content boxes (an empty
+// cell's is empty: lo +inf, hi -inf, never crossed).
+void Grid1D::link_children(uint32_t id, const Cut& cut, uint32_t first_child,
+                           uint32_t node) const {
   const Region& parent = regions_[id];
   const int axis = cut.axis;
   const auto g = uint32_t(cut.granularity);
@@ -474,29 +472,38 @@ void Grid1D::link_children(uint32_t id, const Cut& cut, uint32_t first_child, ui
   child_extent[axis] /= double(g);
   const double parent_area = surface_area(parent_extent);
   const double area_share = parent_area > 0.0 ? surface_area(child_extent) / parent_area : 1.0;
-  const uint32_t children = nodes_[node].children;
-  for (uint32_t w = 0; w < occupancy_words(g); ++w)
-    refs_[children - occupancy_words(g) + w].store(0, std::memory_order_relaxed);
-  for (uint32_t i = 0; i < g; ++i) {
+  const Node& record = nodes_[node];
+  const uint32_t stride = box_stride(g);
+  float* boxes = &child_boxes_[record.boxes];
+  for (uint32_t i = 0; i < stride; ++i) {
     const uint32_t child = first_child + i;
-    Voxel& voxel = voxels_[child];
-    voxel.tri_count = cut.tri_offsets[i + 1] - cut.tri_offsets[i];
-    Region& region = regions_[child];
-    region = parent;
-    region.cell[axis] = parent.cell[axis] * g + i;
-    region.grid[axis] = parent.grid[axis] * g;
-    region.above[axis] = node;
-    region.depth = parent.depth + 1;
-    region.ref = children + i;
-    region.area_rays = cut.rays * area_share;
-    const bool empty = voxel.tri_count == 0;
-    if (empty) voxel.status.store(kLeaf, std::memory_order_relaxed);
-    refs_[children + i].store(
-        child_ref::make(empty ? child_ref::kEmpty : child_ref::kUnbuilt, child),
-        std::memory_order_relaxed);
-    if (!empty)
-      refs_[children - occupancy_words(g) + i / 32].fetch_or(1u << (i % 32),
-                                                             std::memory_order_relaxed);
+    float box[6];
+    if (i < g) {
+      Voxel& voxel = voxels_[child];
+      voxel.tri_count = cut.tri_offsets[i + 1] - cut.tri_offsets[i];
+      Region& region = regions_[child];
+      region = parent;
+      region.cell[axis] = parent.cell[axis] * g + i;
+      region.grid[axis] = parent.grid[axis] * g;
+      region.above[axis] = node;
+      region.depth = parent.depth + 1;
+      region.ref = record.children + i;
+      region.area_rays = cut.rays * area_share;
+      const bool empty = voxel.tri_count == 0;
+      if (empty) voxel.status.store(kLeaf, std::memory_order_relaxed);
+      refs_[record.children + i].store(
+          child_ref::make(empty ? child_ref::kEmpty : child_ref::kUnbuilt, child),
+          std::memory_order_relaxed);
+      double cell_lo[3], cell_hi[3];
+      voxel_box(child, cell_lo, cell_hi);
+      const uint32_t* tris = cut.tris.data() + cut.tri_offsets[i];
+      content_box(
+          voxel.tri_count, [&](uint32_t k) { return input_.box(tris[k]); }, cell_lo, cell_hi,
+          input_.clip.padding, box);
+    } else {  // padding lanes: never crossed
+      content_box(0, [&](uint32_t) { return input_.box(0); }, lo, hi, 0.0, box);
+    }
+    for (int k = 0; k < 6; ++k) boxes[k * stride + i] = box[k];
   }
 }
 

@@ -123,16 +123,22 @@ class Grid1D final : public Accelerator {
   struct NullRecorder;
 
   // Walk (walk.cpp).
+  struct Cursor;
   template <bool AnyHit, class Recorder>
   Hit trace(const Ray& ray, Context& context, Recorder& recorder) const;
   template <class Recorder>
-  uint32_t descend(uint32_t node, double t_cur, int entered_axis, RayWalk& walk, Context& context,
-                   Recorder& recorder) const;
+  bool enter(Cursor& cursor, RayWalk& walk, Context& context, Recorder& recorder) const;
+  bool next_cell(Cursor& cursor, RayWalk& walk, Context& context) const;
+  int64_t seek(uint32_t node, int64_t from, bool from_is_current, Cursor& cursor, RayWalk& walk,
+               Context& context) const;
+  int64_t first_met(uint32_t node, int64_t from, double t0, RayWalk& walk) const;
+  void activate(int axis, uint32_t node, uint32_t state, RayWalk& walk) const;
   template <class Recorder>
-  void skip_empty(uint32_t node, uint32_t local, RayWalk& walk, Context& context,
+  int64_t descend(uint32_t node, double t_cur, int entered_axis, RayWalk& walk, Context& context,
                   Recorder& recorder) const;
   template <bool AnyHit, class Recorder>
   bool search_unbuilt(uint32_t voxel, RayWalk& walk, Context& context, Recorder& recorder) const;
+  uint32_t cursor_voxel(const Cursor& cursor) const;
 
   // Lazy build (build.cpp).
   uint32_t examine(uint32_t voxel, Context& context) const;
@@ -172,8 +178,10 @@ class Grid1D final : public Accelerator {
   mutable StableArray<uint32_t> sample_indices_;
   mutable StableArray<Node> nodes_;
   mutable StableArray<uint32_t> node_voxels_;  // parallel to nodes_: the voxel each one is
-  // Per node: its occupancy words, then one child reference per cell (ChildRef, walk.cpp).
+  // Per node: one child reference per cell (child_ref in records.h), and its cells'
+  // content boxes.
   mutable StableArray<std::atomic<uint32_t>> refs_;
+  mutable StableArray<float> child_boxes_;
   mutable LeafStore leaves_;
   mutable StableArray<StateInfo> states_;
   mutable StableArray<std::atomic<uint64_t>> state_rays_;  // parallel to states_

@@ -27,13 +27,13 @@ struct alignas(64) Grid1D::Node {
   int64_t first_cell;  // J0: index of cell 0 on the state's global grid
   uint32_t state;      // traversal state (axis, absolute granularity)
   uint32_t above[3];   // nearest ancestor node cut along each axis, or kNone (the box)
-  uint32_t children;   // refs_ index of cell 0's reference; occupancy words just before
+  uint32_t children;   // refs_ index of cell 0's reference
+  // child_boxes_ index of the cells' content boxes (structure of arrays, box_stride(g) per
+  // array; core/geometry/box_test.h): where each cell's triangles can be hit, so that the
+  // walk tests all of them at once and steps only into cells whose contents the ray meets.
+  uint32_t boxes;
   uint16_t granularity;
   uint8_t axis;
-  uint8_t unused = 0;
-  // Where its triangles can be hit (content_box, lo xyz then hi xyz): a ray whose segment
-  // through the voxel misses it skips the whole voxel in one test.
-  float box[6];
 };
 
 // A cell's child reference: its kind in the top two bits, so that the walk knows what it
@@ -52,10 +52,6 @@ inline Kind kind(uint32_t ref) { return Kind(ref & ~kPayload); }
 inline uint32_t payload(uint32_t ref) { return ref & kPayload; }
 inline uint32_t make(Kind kind, uint32_t payload) { return uint32_t(kind) | payload; }
 }  // namespace child_ref
-
-// Occupancy words a node of g cells keeps before its references: bit i of word i / 32 is
-// set when cell i holds a triangle.
-inline uint32_t occupancy_words(uint32_t g) { return (g + 31) / 32; }
 
 // A ray of the sampling pass: its segment [t0, t1] inside the scene box; t1 shrinks to
 // the ray's hit once the pass has traced it.
@@ -133,9 +129,24 @@ struct Grid1D::RayWalk {
   double t_next[3];  // the active states' t_next, kept at hand for choosing the step axis
   uint64_t ray_id;
   const PreparedRay<KernelReal>* prepared;
-  const RayBoxTest* box_test;
+  const RayBoxes* boxes;
+  double stop;  // stop_distance of the nearest hit so far (or of tmax)
+  // Per axis, which of active[a]'s cells hold contents the ray meets: bits for the 64 cells
+  // from mask_base[a] (kNone: not computed since active[a] last changed).
+  uint64_t mask[3];
+  uint32_t mask_base[3];
   float tmax;
   Hit best;
+};
+
+// Where the walk stands: the cell the ray is in and how it got there.
+struct Grid1D::Cursor {
+  uint32_t ref;      // the cell's child reference
+  double t;          // where the ray entered it (or was located in it)
+  int entered;       // the axis of the wall it came through; -1 when located by its point
+  uint32_t climbed;  // levels the step into it climbed (§5.3)
+  uint32_t node;     // the node whose cell it is (kNone: the root voxel)
+  uint32_t local;    // which of the node's cells
 };
 
 }  // namespace gs

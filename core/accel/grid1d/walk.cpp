@@ -1,55 +1,32 @@
 // The 1D grid's walk (§5): clip the ray to the scene box, go down to the cell where it
-// enters (vertical traversal, §5.2), then step cell by cell along the axis whose next wall
-// is nearest (horizontal traversal, §5.3), climbing to the node above when a step leaves a
-// 1D array. The walk recorder is a template parameter: the timed path's records nothing,
-// and the viewer's walk is this same code (docs/design.md §2).
+// enters (vertical traversal, §5.2), then step along the axis whose next wall is nearest
+// (horizontal traversal, §5.3), climbing to the node above when a step leaves a 1D array.
+// Each node tests its cells' content boxes against the ray at once (core/geometry/
+// box_test.h), so a step goes straight to the next cell whose contents the ray meets: empty
+// cells, and cells whose triangles lie off the ray, are crossed without a look, and a ray
+// that meets nothing leaves the scene box after one such test per node it crosses
+// (docs/design.md §1.9). The walk recorder is a template parameter: the timed path's records
+// nothing, and the viewer's walk is this same code (docs/design.md §2).
 #include <algorithm>
 #include <bit>
-#include <cmath>
 
 #include "core/accel/grid1d/records.h"
 
 namespace gs {
-namespace {
-
-// The next occupied cell after `local` in direction `step` (+1 or -1) among g cells whose
-// occupancy bits are `words`, or g (step +1) / -1 (step -1) when there is none: one bit
-// scan per 32 cells.
-int64_t next_occupied(const std::atomic<uint32_t>* words, int64_t local, int step, int64_t g) {
-  if (step > 0) {
-    for (int64_t i = local + 1; i < g; i = (i / 32 + 1) * 32) {
-      const uint32_t bits = words[i / 32].load(std::memory_order_relaxed) >> (i % 32);
-      if (bits != 0) return std::min(g, i + std::countr_zero(bits));
-    }
-    return g;
-  }
-  for (int64_t i = local - 1; i >= 0; i = (i / 32) * 32 - 1) {
-    const uint32_t bits = words[i / 32].load(std::memory_order_relaxed) << (31 - i % 32);
-    if (bits != 0) return i - std::countl_zero(bits);
-  }
-  return -1;
-}
-
-// Where the ray leaves the cell it is in: the nearest of the three walls, or the stop
-// distance when that comes first.
-double segment_end(const double t_next[3], double stop) {
-  return std::min({t_next[0], t_next[1], t_next[2], stop});
-}
-
-}  // namespace
 
 // The timed path's recorder: every hook compiles to nothing.
 struct Grid1D::NullRecorder {
   static constexpr bool kRecords = false;
   void descent(uint32_t /*node*/, int64_t /*cell*/, StateCase /*state_case*/) {}
+  void discard_descents() {}
   void cell(uint32_t /*voxel*/, double /*t_enter*/, int /*axis*/, uint32_t /*climbed*/) {}
-  void culled() {}
   void tested(uint32_t /*count*/) {}
   void rejected() {}
   void searched(int32_t /*best*/) {}
 };
 
-// Fills a Walk from the hooks the traversal calls.
+// Fills a Walk from the hooks the traversal calls: the cells the walk looked at, in order,
+// each with the descents that led to it.
 class Grid1D::WalkRecorder {
  public:
   static constexpr bool kRecords = true;
@@ -60,6 +37,8 @@ class Grid1D::WalkRecorder {
     pending_.push_back({voxel, grid_.regions_[voxel].depth, v.axis, v.granularity,
                         grid_.states_[v.state].granularity, v.state, cell, state_case});
   }
+  // Descents into a node the ray met nothing in: they led to no cell.
+  void discard_descents() { pending_.clear(); }
   void cell(uint32_t voxel, double t_enter, int axis, uint32_t climbed) {
     WalkCell cell;
     cell.voxel = voxel;
@@ -73,7 +52,6 @@ class Grid1D::WalkRecorder {
     cell.hit = walk_.cells.empty() ? -1 : walk_.cells.back().hit;
     walk_.cells.push_back(std::move(cell));
   }
-  void culled() { walk_.cells.back().culled = true; }
   void tested(uint32_t count) { walk_.cells.back().tests += count; }
   void rejected() { ++walk_.cells.back().rejections; }
   void searched(int32_t best) { walk_.cells.back().hit = best; }
@@ -102,9 +80,9 @@ std::optional<Walk> Grid1D::record_walk(const Ray& ray, ThreadContext& context) 
   return walk;
 }
 
-// §5: the ray enters the scene box at t_enter; every iteration resolves the reference of
-// the cell the ray is in (going down through nodes, building what is unbuilt), searches it,
-// and steps through the nearest wall, unless the nearest hit lies before it.
+// §5: the ray enters the scene box at t_enter. Each round goes down from the cell the ray
+// is in to a cell worth a look (a leaf whose contents the ray meets), searches it, and
+// steps on, until the ray leaves the box or the nearest hit lies before the next wall.
 template <bool AnyHit, class Recorder>
 Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
   RayWalk walk;
@@ -112,7 +90,7 @@ Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
   if (!input_.clip.clip(ray, t_enter, t_leave, walk.inv_dir)) return Hit{};
   for (int a = 0; a < 3; ++a) {
     walk.origin[a] = ray.origin[a], walk.dir[a] = ray.dir[a];
-    walk.step[a] = walk.dir[a] > 0.0 ? 1 : walk.dir[a] < 0.0 ? -1 : 0;
+    walk.step[a] = step_of(ray.dir[a]);
   }
   const double slack = walk_slack(ray, input_.clip.magnitude, walk.inv_dir);
   walk.ray_id = context.mailbox.next_ray();
@@ -122,117 +100,193 @@ Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
     const double exit_wall = walk.step[a] > 0 ? input_.clip.hi[a] : input_.clip.lo[a];
     box.t_next = walk.step[a] == 0 ? kInf : (exit_wall - walk.origin[a]) * walk.inv_dir[a];
     walk.active[a] = kNone, walk.active_state[a] = a, walk.t_next[a] = box.t_next;
+    walk.mask_base[a] = kNone;
   }
   const PreparedRay<KernelReal> prepared(ray, t_enter, walk.inv_dir);
-  const RayBoxTest box_test(walk.origin, walk.inv_dir);
+  const RayBoxes boxes(ray);
   walk.prepared = &prepared;
-  walk.box_test = &box_test;
+  walk.boxes = &boxes;
   walk.tmax = ray.tmax;
   walk.best = Hit{};
   // Changes only with tmax: computed per hit rather than per step.
-  double stop = stop_distance(walk.tmax, slack);
+  walk.stop = stop_distance(walk.tmax, slack);
   TraceCounters& counters = context.counters;
 
-  uint32_t ref = root_ref_.load(std::memory_order_acquire);
-  uint32_t parent = kNone, local = 0;  // the node whose cell the ray is in, and the cell
-  double t_cur = t_enter;
-  int entered = -1;
-  uint32_t climbed = 0;
-  for (;;) {
-    // Down to a leaf, an empty cell, a node whose contents the ray misses, or a voxel to
-    // search through its id list. The ray's segment in the current cell ends at the nearest
-    // of the three walls (or at the stop distance).
-    bool culled = false;
-    for (;;) {
-      const child_ref::Kind kind = child_ref::kind(ref);
-      if (kind == child_ref::kNode) {
-        const uint32_t node = child_ref::payload(ref);
-        if (!box_test.crosses(nodes_[node].box, nodes_[node].box + 3, t_cur,
-                              segment_end(walk.t_next, stop))) {
-          culled = true;
-          if constexpr (Recorder::kRecords)
-            recorder.cell(node_voxels_[node], t_cur, entered, climbed);
-          break;
-        }
-        parent = node;
-        local = descend(parent, t_cur, entered, walk, context, recorder);
-        ref = refs_[nodes_[parent].children + local].load(std::memory_order_acquire);
-      } else if (kind == child_ref::kUnbuilt) {
-        const uint32_t built = examine(child_ref::payload(ref), context);
-        if (built == ref) break;
-        ref = built;
-      } else {
-        break;
-      }
-    }
-    bool found = false;
-    if (culled) {
-      recorder.culled();
-    } else {
-      if constexpr (Recorder::kRecords)
-        recorder.cell(parent == kNone ? 0 : voxels_[node_voxels_[parent]].first_child + local,
-                      t_cur, entered, climbed);
-      switch (child_ref::kind(ref)) {
-        case child_ref::kLeaf: {
-          const LeafView leaf = leaves_.view(child_ref::payload(ref));
-          if (box_test.crosses(leaf.box, leaf.box + 3, t_cur, segment_end(walk.t_next, stop)))
-            found = test_leaf<AnyHit>(leaf, kernel_, prepared, walk.ray_id, walk.tmax, walk.best,
-                                      context.mailbox, counters, recorder);
-          else
-            recorder.culled();
-          break;
-        }
-        case child_ref::kUnbuilt:
-          found = search_unbuilt<AnyHit>(child_ref::payload(ref), walk, context, recorder);
-          break;
-        default:  // empty: no test; a run of empty cells is crossed in one go
-          if (parent != kNone) skip_empty(parent, local, walk, context, recorder);
-          break;
-      }
-    }
+  Cursor cursor{root_ref_.load(std::memory_order_acquire), t_enter, -1, 0, kNone, 0};
+  do {
+    if (!enter(cursor, walk, context, recorder)) continue;
+    ++counters.traversal_steps;
+    if constexpr (Recorder::kRecords)
+      recorder.cell(cursor_voxel(cursor), cursor.t, cursor.entered, cursor.climbed);
+    const bool found =
+        child_ref::kind(cursor.ref) == child_ref::kLeaf
+            ? test_leaf<AnyHit>(leaves_.view(child_ref::payload(cursor.ref)), kernel_, prepared,
+                                walk.ray_id, walk.tmax, walk.best, context.mailbox, counters,
+                                recorder)
+            : search_unbuilt<AnyHit>(child_ref::payload(cursor.ref), walk, context, recorder);
     recorder.searched(walk.best.id);
     if (AnyHit && found) return walk.best;
-    if (found) stop = stop_distance(walk.tmax, slack);
-    // Leave the cell through its nearest wall, unless the nearest hit lies before it.
+    if (found) walk.stop = stop_distance(walk.tmax, slack);
+  } while (next_cell(cursor, walk, context));
+  return walk.best;
+}
+
+// The voxel of the cell the cursor stands in (for the recorder).
+uint32_t Grid1D::cursor_voxel(const Cursor& cursor) const {
+  if (child_ref::kind(cursor.ref) == child_ref::kUnbuilt) return child_ref::payload(cursor.ref);
+  return cursor.node == kNone ? 0 : voxels_[node_voxels_[cursor.node]].first_child + cursor.local;
+}
+
+// From the cell the cursor stands in at cursor.t, down through nodes (§5.2) to a cell worth
+// a look: a leaf, or a voxel to search through its id list (cut by another thread, or left
+// without a leaf block by the memory budget). In each node the cursor moves on to the first
+// cell, from the one the ray is in, whose contents the ray meets. False when there is none
+// before the ray leaves the node (or the cell is empty): the walk then goes on from the
+// walls, which `seek` has set.
+template <class Recorder>
+bool Grid1D::enter(Cursor& cursor, RayWalk& walk, Context& context, Recorder& recorder) const {
+  for (;;) {
+    switch (child_ref::kind(cursor.ref)) {
+      case child_ref::kUnbuilt: {
+        const uint32_t built = examine(child_ref::payload(cursor.ref), context);
+        if (built == cursor.ref) return true;
+        cursor.ref = built;
+        continue;
+      }
+      case child_ref::kLeaf:
+        return true;
+      case child_ref::kEmpty:
+        return false;
+      case child_ref::kNode:
+        break;
+    }
+    const uint32_t id = child_ref::payload(cursor.ref);
+    const int64_t local = descend(id, cursor.t, cursor.entered, walk, context, recorder);
+    const int64_t cell = seek(id, local, true, cursor, walk, context);
+    if (cell < 0) {
+      recorder.discard_descents();
+      return false;
+    }
+    cursor.node = id, cursor.local = uint32_t(cell);
+    cursor.ref = refs_[nodes_[id].children + uint32_t(cell)].load(std::memory_order_acquire);
+  }
+}
+
+// Leaves the cursor's cell through its nearest wall (§5.3): on that axis, the node the ray's
+// position comes from steps to its next cell whose contents the ray meets, climbing to the
+// node above when the array ends. False when the ray leaves the scene box, or the nearest
+// hit lies before the wall.
+bool Grid1D::next_cell(Cursor& cursor, RayWalk& walk, Context& context) const {
+  for (;;) {
     // Written as selects, not branches: which axis comes next is unpredictable.
     const bool y_first = walk.t_next[1] < walk.t_next[0];
     const double t_xy = y_first ? walk.t_next[1] : walk.t_next[0];
     const bool z_first = walk.t_next[2] < t_xy;
     const int s = z_first ? 2 : int(y_first);
     const double t_exit = z_first ? walk.t_next[2] : t_xy;
-    if (t_exit > stop) break;
-    // Step one cell on axis s; climb while the step leaves the current 1D array (§5.3).
+    if (t_exit > walk.stop) return false;
     uint32_t id = walk.active[s];
-    int64_t next_local = 0;
-    climbed = 0;
-    for (;; id = nodes_[id].above[s], ++climbed) {
-      if (id == kNone) return walk.best;  // left the scene
+    int64_t from = 0;
+    cursor.climbed = 0;
+    for (;; id = nodes_[id].above[s], ++cursor.climbed) {
+      if (id == kNone) return false;  // left the scene
       const Node& up = nodes_[id];
-      Context::StateValues& values = context.states[up.state];
-      const int64_t next = values.index + walk.step[s];
-      next_local = next - up.first_cell;
-      if (uint64_t(next_local) < up.granularity) {
-        values.index = next;
-        values.t_next = walk.t_next[s] = values.exit_distance(next, walk.step[s]);
-        break;
-      }
+      from = context.states[up.state].index + walk.step[s] - up.first_cell;
+      if (uint64_t(from) < up.granularity) break;
     }
-    ++counters.traversal_steps;
+    // The step happens in node `id`: the other axes' positions come from the nodes above
+    // it; usually they already are (the step happened in the deepest node).
     const Node& moved = nodes_[id];
-    walk.active[s] = id, walk.active_state[s] = moved.state;
-    // The other axes' positions come from the nodes above the one the step moved in;
-    // usually they already are (the step happened in the deepest node).
+    activate(s, id, moved.state, walk);
     for (int c = 0; c < 3; ++c) {
       if (c == s || walk.active[c] == moved.above[c]) continue;
-      walk.active[c] = moved.above[c];
-      walk.active_state[c] = moved.above[c] == kNone ? uint32_t(c) : nodes_[moved.above[c]].state;
+      const uint32_t above = moved.above[c];
+      activate(c, above, above == kNone ? uint32_t(c) : nodes_[above].state, walk);
       walk.t_next[c] = context.states[walk.active_state[c]].t_next;
     }
-    parent = id, local = uint32_t(next_local);
-    ref = refs_[moved.children + local].load(std::memory_order_acquire);
-    t_cur = t_exit, entered = s;
+    cursor.t = t_exit, cursor.entered = s;
+    const int64_t cell = seek(id, from, false, cursor, walk, context);
+    if (cell < 0) continue;  // the ray meets nothing more in this node: on to the next wall
+    cursor.node = id, cursor.local = uint32_t(cell);
+    cursor.ref = refs_[moved.children + uint32_t(cell)].load(std::memory_order_acquire);
+    return true;
   }
-  return walk.best;
+}
+
+// Makes `node` the one whose state gives the ray's position on axis a; a change of node
+// drops the axis's cached content mask.
+inline void Grid1D::activate(int a, uint32_t node, uint32_t state, RayWalk& walk) const {
+  if (walk.active[a] != node) walk.mask_base[a] = kNone;
+  walk.active[a] = node, walk.active_state[a] = state;
+}
+
+// In node `id`, the first cell from cell `from` on (in the ray's direction along the node's
+// axis) whose contents the ray meets, if the ray enters it before leaving the node and before
+// the stop distance: the node's state moves there and the cursor's t and entered axis
+// become where and how the ray enters it (`from` itself with `from_is_current` is the cell
+// the ray is in: nothing moves). Otherwise -1, and the walk's next wall on the node's axis
+// becomes where the ray would meet that cell or leave the node's array, so that the next
+// step takes whichever wall comes first. The state moves to the array's last cell only when
+// the ray leaves the array through its end: a state always tells where the ray is, until
+// its t_next.
+int64_t Grid1D::seek(uint32_t id, int64_t from, bool from_is_current, Cursor& cursor,
+                     RayWalk& walk, Context& context) const {
+  const Node& node = nodes_[id];
+  const int b = node.axis, d = walk.step[b];
+  Context::StateValues& values = context.states[node.state];
+  const int64_t cell = first_met(id, from, cursor.t, walk);
+  if (cell == from && from_is_current) return cell;
+  const int64_t g = node.granularity;
+  const double other = std::min(walk.t_next[(b + 1) % 3], walk.t_next[(b + 2) % 3]);
+  if (cell >= 0 && cell < g) {
+    const double t_in = values.exit_distance(node.first_cell + cell - d, d);
+    if (t_in <= std::min(other, walk.stop)) {
+      values.index = node.first_cell + cell;
+      values.t_next = walk.t_next[b] = values.exit_distance(values.index, d);
+      cursor.t = t_in, cursor.entered = b;
+      return cell;
+    }
+    walk.t_next[b] = t_in;  // the ray leaves the node through another wall first
+    return -1;
+  }
+  const int64_t last = node.first_cell + (d > 0 ? g - 1 : 0);
+  const double t_end = d == 0 ? kInf : values.exit_distance(last, d);
+  if (t_end <= other) values.index = last, values.t_next = t_end;
+  walk.t_next[b] = t_end;
+  return -1;
+}
+
+// The first cell of node `id` from `from` on, in the ray's direction along the node's axis,
+// whose content box the ray crosses (from t0 to the stop distance): bits of 64 cells at a
+// time, tested by the kernel's box test and kept for the axis until its node changes. g (or
+// -1 going down) when there is none; -1 too for a ray that never moves along the axis and
+// meets nothing in `from`.
+int64_t Grid1D::first_met(uint32_t id, int64_t from, double t0, RayWalk& walk) const {
+  const Node& node = nodes_[id];
+  const int b = node.axis, d = walk.step[b];
+  const int64_t g = node.granularity;
+  for (int64_t cell = from; cell >= 0 && cell < g;) {
+    const auto base = uint32_t(cell) & ~63u;
+    if (walk.mask_base[b] != base) {
+      walk.mask[b] = kernel_.boxes(&child_boxes_[node.boxes], box_stride(node.granularity), base,
+                                   std::min<uint32_t>(64, uint32_t(g) - base), *walk.boxes,
+                                   float_down(t0), float_up(walk.stop));
+      walk.mask_base[b] = base;
+    }
+    const int shift = int(cell - base);
+    if (d > 0) {
+      const uint64_t ahead = walk.mask[b] >> shift;
+      if (ahead != 0) return cell + std::countr_zero(ahead);
+      cell = int64_t(base) + 64;
+    } else if (d < 0) {
+      const uint64_t ahead = walk.mask[b] << (63 - shift);
+      if (ahead != 0) return cell - std::countl_zero(ahead);
+      cell = int64_t(base) - 1;
+    } else {
+      return (walk.mask[b] >> shift) & 1 ? cell : -1;
+    }
+  }
+  return d > 0 ? g : -1;
 }
 
 // §5.2: into node `id`, which the ray occupies at t_cur, setting its traversal state, and
@@ -241,9 +295,9 @@ Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
 // first or last cell (figure 7); otherwise the cell comes from the point. A state is
 // initialised only when a ray first needs it (its stamp is another ray's).
 template <class Recorder>
-[[gnu::always_inline]] inline uint32_t Grid1D::descend(uint32_t id, double t_cur, int entered_axis,
-                                                       RayWalk& walk, Context& context,
-                                                       Recorder& recorder) const {
+[[gnu::always_inline]] inline int64_t Grid1D::descend(uint32_t id, double t_cur, int entered_axis,
+                                                      RayWalk& walk, Context& context,
+                                                      Recorder& recorder) const {
   const Node& node = nodes_[id];
   const uint32_t b = node.axis;
   const int64_t g = node.granularity;
@@ -252,7 +306,8 @@ template <class Recorder>
   int64_t local = values.index - first;
   const bool used_by_ray = values.stamp == walk.ray_id;
   StateCase state_case = StateCase::reused;
-  if (!used_by_ray || values.t_next <= t_cur || local < 0 || local >= g || int(b) == entered_axis) {
+  if (!used_by_ray || values.t_next <= t_cur || local < 0 || local >= g ||
+      int(b) == entered_axis) {
     state_case = used_by_ray ? StateCase::index_only : StateCase::reinitialised;
     const StateInfo& info = states_[node.state];
     if (!used_by_ray) {
@@ -273,57 +328,10 @@ template <class Recorder>
     values.index = first + local;
     values.t_next = walk.step[b] == 0 ? kInf : values.exit_distance(values.index, walk.step[b]);
   }
-  walk.active[b] = id, walk.active_state[b] = node.state, walk.t_next[b] = values.t_next;
+  activate(int(b), id, node.state, walk);
+  walk.t_next[b] = values.t_next;
   recorder.descent(id, local, state_case);
-  return uint32_t(local);
-}
-
-// The ray is in empty cell `local` of node `id`: it crosses the run of empty cells that
-// follows along the node's axis in one go, found by one bit scan of the occupancy words. If
-// the ray reaches the run's end (the next occupied cell, or the array's end) before a wall
-// of another axis, the node's state moves to the run's last cell as the cell-by-cell walk
-// would have; otherwise the ray leaves the node through that other wall first, and the state
-// stays truthful as it is (its slab holds until its t_next). Either way the walk's next wall
-// on this axis is the run's end. The cells crossed count as steps, one each, as the
-// cell-by-cell walk would count them.
-template <class Recorder>
-void Grid1D::skip_empty(uint32_t id, uint32_t local, RayWalk& walk, Context& context,
-                        Recorder& recorder) const {
-  const Node& node = nodes_[id];
-  const uint32_t b = node.axis;
-  const int d = walk.step[b];
-  if (d == 0) return;  // never leaves the cell along this axis
-  const int64_t g = node.granularity;
-  const int64_t end =
-      next_occupied(&refs_[node.children - occupancy_words(node.granularity)], local, d, g);
-  if (end == int64_t(local) + d) return;  // the next cell is occupied: nothing to skip
-  Context::StateValues& values = context.states[node.state];
-  const int64_t last_empty = node.first_cell + end - d;
-  const double t_end = values.exit_distance(last_empty, d);
-  const double other = std::min(walk.t_next[(b + 1) % 3], walk.t_next[(b + 2) % 3]);
-  // Where the ray enters cell k of the node (k after `local` in direction d).
-  const auto entry = [&](int64_t k) { return values.exit_distance(node.first_cell + k - d, d); };
-  int64_t last = end - d;  // the last cell the ray enters before leaving the node
-  if (t_end <= other) {
-    values.index = last_empty, values.t_next = t_end;
-  } else {
-    // Located from the point where the ray meets the other wall, then corrected by the
-    // walls' own distances so that the count is exact.
-    const StateInfo& info = states_[node.state];
-    const double p = walk.origin[b] + other * walk.dir[b];
-    const double at = std::floor((p - info.origin) * info.scale) - double(node.first_cell);
-    last = d > 0 ? int64_t(std::clamp(at, double(local), double(end - d)))
-                 : int64_t(std::clamp(at, double(end - d), double(local)));
-    while (last != end - d && entry(last + d) < other) last += d;
-    while (last != int64_t(local) && entry(last) >= other) last -= d;
-  }
-  if constexpr (Recorder::kRecords) {
-    const uint32_t first_child = voxels_[node_voxels_[id]].first_child;
-    for (int64_t k = int64_t(local) + d; k != last + d; k += d)
-      recorder.cell(first_child + uint32_t(k), entry(k), int(b), 0);
-  }
-  walk.t_next[b] = t_end;
-  context.counters.traversal_steps += uint64_t((last - int64_t(local)) * d);
+  return local;
 }
 
 // A voxel another thread is still cutting, or a leaf the memory budget left without its
