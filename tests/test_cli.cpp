@@ -382,7 +382,7 @@ TEST(Cli, WalkOfOneRayEndsOnItsHit) {
   EXPECT_EQ(json["ray"]["origin"][2], 5.0f);
   const nlohmann::json& cells = json["cells"];
   ASSERT_GE(cells.size(), 1u);
-  EXPECT_EQ(json["steps"], cells.size() - 1);
+  EXPECT_EQ(json["steps"], cells.size());
   EXPECT_EQ(cells.back()["hit"], 1);
   EXPECT_EQ(cells[0]["entered_axis"], -1);
   for (const nlohmann::json& cell : cells) {

@@ -362,7 +362,7 @@ TEST(Progressive, NewParametersDuringTheBuildTakeEffect) {
   ViewSetup roomy = setup_for(camera, 1);
   roomy.scene = lumpy;
   ViewSetup tight = roomy;
-  tight.params.memory_budget = uint64_t{1} << 20;
+  tight.params.memory_budget = uint64_t{300} << 10;
   const RenderOutcome expected = reference(camera, 1, *lumpy, tight.params);
   ProgressiveRenderer renderer;
   uint64_t generation = 0;

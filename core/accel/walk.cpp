@@ -57,7 +57,8 @@ nlohmann::json to_json(const Walk& walk) {
             {"tmax", number(r.tmax)}}},
           {"hit",
            {{"id", walk.hit.id}, {"t", number(walk.hit.t)}, {"u", walk.hit.u}, {"v", walk.hit.v}}},
-          {"steps", walk.cells.empty() ? 0 : walk.cells.size() - 1},
+          {"t_leave", number(walk.t_leave)},
+          {"steps", walk.cells.size()},
           {"cells", std::move(cells)}};
 }
 

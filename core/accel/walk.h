@@ -3,6 +3,7 @@
 // null one). Feeds `trace --walk` and, later, the viewer's inspector.
 #pragma once
 #include <cstdint>
+#include <limits>
 #include <nlohmann/json_fwd.hpp>
 #include <vector>
 
@@ -47,6 +48,8 @@ struct WalkCell {
 struct Walk {
   Ray ray;
   Hit hit;
+  // Where the ray leaves the scene box (no further than tmax); +inf when it never enters it.
+  double t_leave = std::numeric_limits<double>::infinity();
   std::vector<WalkCell> cells;
 };
 

@@ -1,9 +1,13 @@
-// A ray against many axis-aligned boxes at once: how the 1D grid's walk finds, among a
+// A ray against several axis-aligned boxes at once: how the 1D grid's walk finds, among a
 // node's cells, those whose contents (their triangles' padded boxes, content_box in
-// core/geometry/clip_box.h) the ray meets, and steps straight to them. Float lanes with the
-// exits widened by the bound of Ize, "Robust BVH Ray Traversal" (JCGT 2(2), 2013), so that
-// rounding never reports a miss for a box the ray crosses (docs/design.md §6).
+// core/geometry/clip_box.h) the ray meets, and steps straight to them. Four float lanes
+// (SSE2, on every x86-64, inlined into the walk), with the exits widened by the bound of
+// Ize, "Robust BVH Ray Traversal" (JCGT 2(2), 2013), so that rounding never reports a miss
+// for a box the ray crosses (docs/design.md §6.5).
 #pragma once
+#include <emmintrin.h>
+
+#include <cmath>
 #include <cstdint>
 
 #include "core/geometry/ray.h"
@@ -17,29 +21,50 @@ namespace gs {
 inline constexpr float kSlabGamma = 1.7881409e-7f;
 
 // Boxes in structure-of-arrays form: box i's lo.x is boxes[i], lo.y boxes[stride + i], ...,
-// hi.z boxes[5 * stride + i]. An empty box (lo +inf, hi -inf) is never crossed.
+// hi.z boxes[5 * stride + i]. An empty box (lo +inf, hi -inf) is never crossed. A block of
+// boxes takes box_floats(count) floats: the arrays and room for a 4-lane read from any box
+// on.
 inline constexpr uint32_t box_stride(uint32_t count) { return (count + 3) & ~3u; }
+inline constexpr uint32_t box_floats(uint32_t count) { return 6 * box_stride(count) + 4; }
 
-// The ray as the box kernels read it. A zero direction component gives 1 / dir = inf, and a
-// face the origin lies on 0 * inf = NaN, which the kernels' max/min ignore: that axis does
-// not constrain the ray, as it should not.
+// The ray as the box test reads it, per axis in all four lanes. A zero direction component
+// gives 1 / dir = inf, and a face the origin lies on 0 * inf = NaN, which the test's max/min
+// ignore: that axis does not constrain the ray, as it should not.
 struct RayBoxes {
-  float origin[3], inv_dir[3];
+  __m128 origin[3], inv_dir[3];
   uint32_t near_array[3], far_array[3];  // per axis: which of the six arrays it meets first
 
-  explicit RayBoxes(const Ray& ray);
-};
+  explicit RayBoxes(const Ray& ray) {
+    for (uint32_t a = 0; a < 3; ++a) {
+      origin[a] = _mm_set1_ps(ray.origin[a]);
+      inv_dir[a] = _mm_set1_ps(1.0f / ray.dir[a]);
+      // -0 too: 1 / -0 = -inf, the ray meets the hi face first.
+      const bool toward_lo = std::signbit(ray.dir[a]);
+      near_array[a] = toward_lo ? 3 + a : a;
+      far_array[a] = toward_lo ? a : 3 + a;
+    }
+  }
 
-// Bit i set when box first + i (i < count <= 64) is crossed by the ray somewhere in
-// [t0, t1]. Lanes of 4 (SSE2, every x86-64), 8 (AVX2) or 16 (AVX-512), chosen with the leaf
-// kernel (core/geometry/leaf.h, Kernel::boxes).
-using BoxesTest = uint64_t (*)(const float* boxes, uint32_t stride, uint32_t first,
-                               uint32_t count, const RayBoxes& ray, float t0, float t1);
-uint64_t crossed_boxes_sse2(const float* boxes, uint32_t stride, uint32_t first, uint32_t count,
-                            const RayBoxes& ray, float t0, float t1);
-uint64_t crossed_boxes_avx2(const float* boxes, uint32_t stride, uint32_t first, uint32_t count,
-                            const RayBoxes& ray, float t0, float t1);
-uint64_t crossed_boxes_avx512(const float* boxes, uint32_t stride, uint32_t first,
-                              uint32_t count, const RayBoxes& ray, float t0, float t1);
+  // Bits 0..3 for boxes first .. first + 3: set when the ray crosses the box somewhere in
+  // [t0, t1] (all four lanes). Callers mask off boxes past the ones they asked about.
+  uint32_t crossed4(const float* boxes, uint32_t stride, uint32_t first, __m128 t0,
+                    __m128 t1) const {
+    const __m128 outward_size = _mm_set1_ps(3 * kSlabGamma), one = _mm_set1_ps(1.0f),
+                 sign = _mm_set1_ps(-0.0f);
+    __m128 entry = t0, exit = t1;
+    for (int a = 0; a < 3; ++a) {
+      const __m128 near_face = _mm_loadu_ps(boxes + near_array[a] * stride + first);
+      const __m128 far_face = _mm_loadu_ps(boxes + far_array[a] * stride + first);
+      const __m128 t_near = _mm_mul_ps(_mm_sub_ps(near_face, origin[a]), inv_dir[a]);
+      const __m128 exact_far = _mm_mul_ps(_mm_sub_ps(far_face, origin[a]), inv_dir[a]);
+      const __m128 outward = _mm_or_ps(_mm_and_ps(exact_far, sign), outward_size);
+      const __m128 t_far = _mm_mul_ps(exact_far, _mm_add_ps(one, outward));
+      // maxps / minps return their second operand when either is NaN: NaN lanes drop out.
+      entry = _mm_max_ps(t_near, entry);
+      exit = _mm_min_ps(t_far, exit);
+    }
+    return uint32_t(_mm_movemask_ps(_mm_cmple_ps(entry, exit)));
+  }
+};
 
 }  // namespace gs

@@ -38,8 +38,8 @@ double ClipBox::min_cell_width(const double lo[3], const double hi[3]) const {
 bool ray_is_valid(const Ray& ray) {
   // x - x is NaN exactly when x is infinite or NaN: one test for the six components.
   const glm::vec3 o = ray.origin, d = ray.dir;
-  const float finite = (o.x - o.x) + (o.y - o.y) + (o.z - o.z) + (d.x - d.x) + (d.y - d.y) +
-                       (d.z - d.z);
+  const float finite =
+      (o.x - o.x) + (o.y - o.y) + (o.z - o.z) + (d.x - d.x) + (d.y - d.y) + (d.z - d.z);
   if (finite != 0.0f) return false;
   if (d.x == 0.0f && d.y == 0.0f && d.z == 0.0f) return false;
   return ray.tmin <= ray.tmax;  // false for a NaN bound too

@@ -112,13 +112,13 @@ void force_kernel_isa(Isa isa) {
 Kernel kernel_for(Isa isa) {
   switch (isa) {
     case Isa::avx2:
-      return {4, test_lanes_avx2, crossed_boxes_avx2};
+      return {4, test_lanes_avx2};
     case Isa::avx512:
-      return {8, test_lanes_avx512, crossed_boxes_avx512};
+      return {8, test_lanes_avx512};
     case Isa::scalar:
       break;
   }
-  return {1, test_lanes_scalar, crossed_boxes_sse2};
+  return {1, test_lanes_scalar};
 }
 
 }  // namespace gs

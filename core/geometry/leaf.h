@@ -11,7 +11,6 @@
 
 #include "core/accel/accelerator.h"
 #include "core/base/stable_array.h"
-#include "core/geometry/box_test.h"
 #include "core/geometry/kernel.h"
 #include "core/geometry/mailbox.h"
 #include "core/geometry/triangles.h"
@@ -84,12 +83,9 @@ struct LaneHits {
 // lane's figures are the scalar intersect_triangle's, bit for bit.
 using LaneTest = uint32_t (*)(const LeafView& leaf, uint32_t first, uint32_t lanes,
                               const PreparedRay<KernelReal>& ray, float tmax, LaneHits& out);
-// A kernel: its leaf test and lanes, and the box test of the same instruction set
-// (core/geometry/box_test.h).
 struct Kernel {
   uint32_t lanes = 1;
   LaneTest test = nullptr;
-  BoxesTest boxes = nullptr;
 };
 Kernel kernel_for(Isa isa);
 

@@ -114,25 +114,9 @@ std::string state_label(const StateRow& row) {
   return std::string(kAxisNames[row.axis]) + " G=" + std::to_string(row.absolute_granularity);
 }
 
-// Where the ray leaves the box (slab method), in units of its direction.
-double exit_t(const Ray& ray, const double lo[3], const double hi[3]) {
-  double t = std::numeric_limits<double>::infinity();
-  for (int a = 0; a < 3; ++a) {
-    const double d = ray.dir[a], o = ray.origin[a];
-    if (d > 0.0) t = std::min(t, (hi[a] - o) / d);
-    if (d < 0.0) t = std::min(t, (lo[a] - o) / d);
-  }
-  return t;
-}
-
-// How far the drawn ray goes: to its hit, or for a miss to where it leaves the last cell
-// (no further than tmax); +inf when there is nothing to end at (no cell visited).
-double ray_end(const Walk& walk) {
-  if (walk.hit.found()) return walk.hit.t;
-  if (walk.cells.empty()) return std::numeric_limits<double>::infinity();
-  const WalkCell& last = walk.cells.back();
-  return std::min(exit_t(walk.ray, last.lo, last.hi), double(walk.ray.tmax));
-}
+// How far the drawn ray goes: to its hit, or for a miss to where it leaves the scene box
+// (no further than tmax); +inf when it never enters the box.
+double ray_end(const Walk& walk) { return walk.hit.found() ? walk.hit.t : walk.t_leave; }
 
 uint8_t to_byte(double c) { return uint8_t(std::clamp(c, 0.0, 1.0) * 255.0 + 0.5); }
 

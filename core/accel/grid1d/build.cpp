@@ -403,10 +403,9 @@ uint32_t Grid1D::state_for(uint32_t axis, uint64_t granularity) const {
 // visible to the threads that then walk into the voxel.
 uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
   const auto g = uint32_t(cut.granularity);
-  const uint32_t stride = box_stride(g);
   const uint64_t bytes = g * (sizeof(Voxel) + sizeof(Region)) + sizeof(Node) +
                          sizeof(uint32_t) * (1 + g + cut.tris.size() + cut.samples.size()) +
-                         sizeof(float) * 6 * stride;
+                         sizeof(float) * box_floats(g);
   if (voxels_.size() + g >= size_t(child_ref::kMaxPayload) || !reserve_bytes(bytes)) {
     ++over_budget_;
     return kNone;
@@ -416,7 +415,7 @@ uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
   const size_t first_voxel = voxels_.append(g);
   const size_t node = nodes_.append(1);
   const size_t refs = refs_.append(g);
-  const size_t boxes = child_boxes_.append(6 * size_t(stride));
+  const size_t boxes = child_boxes_.append(box_floats(g));
   const size_t tri_base = tri_indices_.append(cut.tris.size());
   const size_t sample_base = sample_indices_.append(cut.samples.size());
   if (first_voxel == SIZE_MAX || node == SIZE_MAX || node >= child_ref::kMaxPayload ||
@@ -461,8 +460,7 @@ uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
 // The cells' records: place, triangle counts, area estimate (§6.5), their references (empty
 // cells are leaves from birth: nothing to cut, ever) and their content boxes (an empty
 // cell's is empty: lo +inf, hi -inf, never crossed).
-void Grid1D::link_children(uint32_t id, const Cut& cut, uint32_t first_child,
-                           uint32_t node) const {
+void Grid1D::link_children(uint32_t id, const Cut& cut, uint32_t first_child, uint32_t node) const {
   const Region& parent = regions_[id];
   const int axis = cut.axis;
   const auto g = uint32_t(cut.granularity);
@@ -501,7 +499,8 @@ void Grid1D::link_children(uint32_t id, const Cut& cut, uint32_t first_child,
           voxel.tri_count, [&](uint32_t k) { return input_.box(tris[k]); }, cell_lo, cell_hi,
           input_.clip.padding, box);
     } else {  // padding lanes: never crossed
-      content_box(0, [&](uint32_t) { return input_.box(0); }, lo, hi, 0.0, box);
+      content_box(
+          0, [&](uint32_t) { return input_.box(0); }, lo, hi, 0.0, box);
     }
     for (int k = 0; k < 6; ++k) boxes[k * stride + i] = box[k];
   }

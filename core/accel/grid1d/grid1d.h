@@ -131,7 +131,6 @@ class Grid1D final : public Accelerator {
   bool next_cell(Cursor& cursor, RayWalk& walk, Context& context) const;
   int64_t seek(uint32_t node, int64_t from, bool from_is_current, Cursor& cursor, RayWalk& walk,
                Context& context) const;
-  int64_t first_met(uint32_t node, int64_t from, double t0, RayWalk& walk) const;
   void activate(int axis, uint32_t node, uint32_t state, RayWalk& walk) const;
   template <class Recorder>
   int64_t descend(uint32_t node, double t_cur, int entered_axis, RayWalk& walk, Context& context,

@@ -130,11 +130,8 @@ struct Grid1D::RayWalk {
   uint64_t ray_id;
   const PreparedRay<KernelReal>* prepared;
   const RayBoxes* boxes;
-  double stop;  // stop_distance of the nearest hit so far (or of tmax)
-  // Per axis, which of active[a]'s cells hold contents the ray meets: bits for the 64 cells
-  // from mask_base[a] (kNone: not computed since active[a] last changed).
-  uint64_t mask[3];
-  uint32_t mask_base[3];
+  double stop;        // stop_distance of the nearest hit so far (or of tmax)
+  __m128 t_lo, t_hi;  // the content boxes' test interval: the box entry to `stop`, in float
   float tmax;
   Hit best;
 };

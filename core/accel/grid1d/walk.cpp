@@ -13,6 +13,12 @@
 #include "core/accel/grid1d/records.h"
 
 namespace gs {
+namespace {
+
+// The two axes other than a: kNextAxis[a] and kNextAxis[a + 1].
+constexpr int kNextAxis[4] = {1, 2, 0, 1};
+
+}  // namespace
 
 // The timed path's recorder: every hook compiles to nothing.
 struct Grid1D::NullRecorder {
@@ -75,6 +81,8 @@ Hit Grid1D::any_hit(const Ray& ray, ThreadContext& context) const {
 std::optional<Walk> Grid1D::record_walk(const Ray& ray, ThreadContext& context) const {
   Walk walk;
   walk.ray = ray;
+  double t_enter, t_leave;
+  if (input_.clip.clip(ray, t_enter, t_leave)) walk.t_leave = t_leave;
   WalkRecorder recorder(*this, walk);
   walk.hit = trace<false>(ray, static_cast<Context&>(context), recorder);
   return walk;
@@ -100,7 +108,6 @@ Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
     const double exit_wall = walk.step[a] > 0 ? input_.clip.hi[a] : input_.clip.lo[a];
     box.t_next = walk.step[a] == 0 ? kInf : (exit_wall - walk.origin[a]) * walk.inv_dir[a];
     walk.active[a] = kNone, walk.active_state[a] = a, walk.t_next[a] = box.t_next;
-    walk.mask_base[a] = kNone;
   }
   const PreparedRay<KernelReal> prepared(ray, t_enter, walk.inv_dir);
   const RayBoxes boxes(ray);
@@ -108,8 +115,11 @@ Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
   walk.boxes = &boxes;
   walk.tmax = ray.tmax;
   walk.best = Hit{};
-  // Changes only with tmax: computed per hit rather than per step.
+  // Change only with tmax: computed per hit rather than per step. Content boxes are tested
+  // from the ray's entry into the scene box on: a cell ahead is entered later anyway.
   walk.stop = stop_distance(walk.tmax, slack);
+  walk.t_lo = _mm_set1_ps(float_down(t_enter));
+  walk.t_hi = _mm_set1_ps(float_up(walk.stop));
   TraceCounters& counters = context.counters;
 
   Cursor cursor{root_ref_.load(std::memory_order_acquire), t_enter, -1, 0, kNone, 0};
@@ -126,7 +136,10 @@ Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
             : search_unbuilt<AnyHit>(child_ref::payload(cursor.ref), walk, context, recorder);
     recorder.searched(walk.best.id);
     if (AnyHit && found) return walk.best;
-    if (found) walk.stop = stop_distance(walk.tmax, slack);
+    if (found) {
+      walk.stop = stop_distance(walk.tmax, slack);
+      walk.t_hi = _mm_set1_ps(float_up(walk.stop));
+    }
   } while (next_cell(cursor, walk, context));
   return walk.best;
 }
@@ -213,10 +226,8 @@ bool Grid1D::next_cell(Cursor& cursor, RayWalk& walk, Context& context) const {
   }
 }
 
-// Makes `node` the one whose state gives the ray's position on axis a; a change of node
-// drops the axis's cached content mask.
+// Makes `node` the one whose state gives the ray's position on axis a.
 inline void Grid1D::activate(int a, uint32_t node, uint32_t state, RayWalk& walk) const {
-  if (walk.active[a] != node) walk.mask_base[a] = kNone;
   walk.active[a] = node, walk.active_state[a] = state;
 }
 
@@ -224,23 +235,58 @@ inline void Grid1D::activate(int a, uint32_t node, uint32_t state, RayWalk& walk
 // axis) whose contents the ray meets, if the ray enters it before leaving the node and before
 // the stop distance: the node's state moves there and the cursor's t and entered axis
 // become where and how the ray enters it (`from` itself with `from_is_current` is the cell
-// the ray is in: nothing moves). Otherwise -1, and the walk's next wall on the node's axis
-// becomes where the ray would meet that cell or leave the node's array, so that the next
-// step takes whichever wall comes first. The state moves to the array's last cell only when
-// the ray leaves the array through its end: a state always tells where the ray is, until
-// its t_next.
-int64_t Grid1D::seek(uint32_t id, int64_t from, bool from_is_current, Cursor& cursor,
-                     RayWalk& walk, Context& context) const {
+// the ray is in: nothing moves). Cells are tested four at a time, nearest first, as long as
+// the ray reaches them before that limit. Otherwise -1, and the walk's next wall on the
+// node's axis becomes where the ray would meet that cell or leave the node's array, so that
+// the next step takes whichever wall comes first. The state moves to the array's last cell
+// only when the ray leaves the array through its end: a state always tells where the ray is,
+// until its t_next.
+[[gnu::always_inline]] inline int64_t Grid1D::seek(uint32_t id, int64_t from, bool from_is_current,
+                                                   Cursor& cursor, RayWalk& walk,
+                                                   Context& context) const {
   const Node& node = nodes_[id];
   const int b = node.axis, d = walk.step[b];
-  Context::StateValues& values = context.states[node.state];
-  const int64_t cell = first_met(id, from, cursor.t, walk);
-  if (cell == from && from_is_current) return cell;
   const int64_t g = node.granularity;
-  const double other = std::min(walk.t_next[(b + 1) % 3], walk.t_next[(b + 2) % 3]);
-  if (cell >= 0 && cell < g) {
-    const double t_in = values.exit_distance(node.first_cell + cell - d, d);
-    if (t_in <= std::min(other, walk.stop)) {
+  Context::StateValues& values = context.states[node.state];
+  const double other = std::min(walk.t_next[kNextAxis[b]], walk.t_next[kNextAxis[b + 1]]);
+  const double limit = std::min(other, walk.stop);
+  const float* boxes = &child_boxes_[node.boxes];
+  const uint32_t stride = box_stride(node.granularity);
+  // Where the ray enters cell `cell` (a wall of the state's grid).
+  const auto entry = [&](int64_t cell) {
+    return values.exit_distance(node.first_cell + cell - d, d);
+  };
+  int64_t cell = -1;
+  if (d > 0) {
+    for (int64_t first = from; first < g; first += 4) {
+      const uint32_t met =
+          walk.boxes->crossed4(boxes, stride, uint32_t(first), walk.t_lo, walk.t_hi) &
+          (g - first >= 4 ? 15u : (1u << (g - first)) - 1u);
+      if (met != 0) {
+        cell = first + std::countr_zero(met);
+        break;
+      }
+      if (first + 4 < g && entry(first + 4) > limit) break;
+    }
+  } else if (d < 0) {
+    for (int64_t last = from; last >= 0; last -= 4) {
+      const int64_t first = std::max<int64_t>(0, last - 3);
+      const uint32_t met =
+          walk.boxes->crossed4(boxes, stride, uint32_t(first), walk.t_lo, walk.t_hi) &
+          ((2u << (last - first)) - 1u);
+      if (met != 0) {
+        cell = first + 31 - std::countl_zero(met);
+        break;
+      }
+      if (first > 0 && entry(first - 1) > limit) break;
+    }
+  } else if (walk.boxes->crossed4(boxes, stride, uint32_t(from), walk.t_lo, walk.t_hi) & 1u) {
+    cell = from;
+  }
+  if (cell >= 0) {
+    if (cell == from && from_is_current) return cell;
+    const double t_in = entry(cell);
+    if (t_in <= limit) {
       values.index = node.first_cell + cell;
       values.t_next = walk.t_next[b] = values.exit_distance(values.index, d);
       cursor.t = t_in, cursor.entered = b;
@@ -249,44 +295,11 @@ int64_t Grid1D::seek(uint32_t id, int64_t from, bool from_is_current, Cursor& cu
     walk.t_next[b] = t_in;  // the ray leaves the node through another wall first
     return -1;
   }
-  const int64_t last = node.first_cell + (d > 0 ? g - 1 : 0);
-  const double t_end = d == 0 ? kInf : values.exit_distance(last, d);
-  if (t_end <= other) values.index = last, values.t_next = t_end;
+  const int64_t end = node.first_cell + (d > 0 ? g - 1 : 0);
+  const double t_end = d == 0 ? kInf : values.exit_distance(end, d);
+  if (t_end <= other) values.index = end, values.t_next = t_end;
   walk.t_next[b] = t_end;
   return -1;
-}
-
-// The first cell of node `id` from `from` on, in the ray's direction along the node's axis,
-// whose content box the ray crosses (from t0 to the stop distance): bits of 64 cells at a
-// time, tested by the kernel's box test and kept for the axis until its node changes. g (or
-// -1 going down) when there is none; -1 too for a ray that never moves along the axis and
-// meets nothing in `from`.
-int64_t Grid1D::first_met(uint32_t id, int64_t from, double t0, RayWalk& walk) const {
-  const Node& node = nodes_[id];
-  const int b = node.axis, d = walk.step[b];
-  const int64_t g = node.granularity;
-  for (int64_t cell = from; cell >= 0 && cell < g;) {
-    const auto base = uint32_t(cell) & ~63u;
-    if (walk.mask_base[b] != base) {
-      walk.mask[b] = kernel_.boxes(&child_boxes_[node.boxes], box_stride(node.granularity), base,
-                                   std::min<uint32_t>(64, uint32_t(g) - base), *walk.boxes,
-                                   float_down(t0), float_up(walk.stop));
-      walk.mask_base[b] = base;
-    }
-    const int shift = int(cell - base);
-    if (d > 0) {
-      const uint64_t ahead = walk.mask[b] >> shift;
-      if (ahead != 0) return cell + std::countr_zero(ahead);
-      cell = int64_t(base) + 64;
-    } else if (d < 0) {
-      const uint64_t ahead = walk.mask[b] << (63 - shift);
-      if (ahead != 0) return cell - std::countl_zero(ahead);
-      cell = int64_t(base) - 1;
-    } else {
-      return (walk.mask[b] >> shift) & 1 ? cell : -1;
-    }
-  }
-  return d > 0 ? g : -1;
 }
 
 // §5.2: into node `id`, which the ray occupies at t_cur, setting its traversal state, and
@@ -306,8 +319,7 @@ template <class Recorder>
   int64_t local = values.index - first;
   const bool used_by_ray = values.stamp == walk.ray_id;
   StateCase state_case = StateCase::reused;
-  if (!used_by_ray || values.t_next <= t_cur || local < 0 || local >= g ||
-      int(b) == entered_axis) {
+  if (!used_by_ray || values.t_next <= t_cur || local < 0 || local >= g || int(b) == entered_axis) {
     state_case = used_by_ray ? StateCase::index_only : StateCase::reinitialised;
     const StateInfo& info = states_[node.state];
     if (!used_by_ray) {
