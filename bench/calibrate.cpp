@@ -154,45 +154,59 @@ void add_triangle(Scene& scene, glm::vec3 a, glm::vec3 b, glm::vec3 c) {
 }
 
 // A row of unit cubes along x, [0, cells] x [0, 1] x [0, 1]: a small triangle inside every
-// `stride`-th cell (and the last), in a corner of the yz square, and `slivers` thin
-// triangles along one edge spanning the whole row, so that every cell holds them all. The
-// rays of rays_along_row pass where no triangle lies: they walk every cell and test what
-// each holds, each sliver once and then meet it again in every cell (mailbox rejections).
-Scene cell_row(int cells, int stride, int slivers) {
+// `stride`-th cell (and the last), in a corner of the yz square, so that cutting the row
+// makes unit cells; and in every `panel_stride`-th cell (0: none) a panel across the cell's
+// middle, x = i + 0.5, covering the half y + z <= 1 of the square; and `slivers` triangles
+// spanning the whole row in planes z = y - 0.1 - 0.02 k. The rays of rays_along_row (at
+// y in [0.55, 0.65], z - y in [0.04, 0.14], nearly along x) miss every triangle but cross
+// the panels' and slivers' boxes: the walk looks at each cell holding one (a step), tests
+// what it holds, and meets the slivers again in every cell after the first (rejections).
+// The corner triangles' boxes lie off the rays.
+Scene cell_row(int cells, int stride, int panel_stride, int slivers) {
   Scene scene;
   scene.name = "calibration row";
   for (int i = 0; i < cells; ++i) {
     const bool last = i == cells - 1;
-    if (i % stride != 0 && !last) continue;
-    // The first and last triangles touch the row's ends, so the cells are unit cubes.
-    const float x = i == 0 ? 0.0f : last ? float(cells) - 0.2f : float(i) + 0.4f;
-    const float corner = last || i % 2 == 1 ? 1.0f : 0.0f;
-    const float inward = corner == 0.0f ? 0.2f : -0.2f;
-    add_triangle(scene, {x, corner, corner}, {x + 0.2f, corner, corner},
-                 {x + 0.1f, corner + inward, corner + inward});
+    if (i % stride == 0 || last) {
+      // The first and last triangles touch the row's ends, so the cells are unit cubes.
+      const float x = i == 0 ? 0.0f : last ? float(cells) - 0.2f : float(i) + 0.4f;
+      const float corner = last || i % 2 == 1 ? 1.0f : 0.0f;
+      const float inward = corner == 0.0f ? 0.2f : -0.2f;
+      add_triangle(scene, {x, corner, corner}, {x + 0.2f, corner, corner},
+                   {x + 0.1f, corner + inward, corner + inward});
+    }
+    if (panel_stride > 0 && i % panel_stride == 0) {
+      const float x = float(i) + 0.5f;
+      add_triangle(scene, {x, 0.0f, 0.0f}, {x, 1.0f, 0.0f}, {x, 0.0f, 1.0f});
+    }
   }
   for (int k = 0; k < slivers; ++k) {
-    const float y = 0.05f * float(k) / float(slivers);
-    add_triangle(scene, {0.0f, y, 1.0f}, {float(cells), y, 1.0f}, {float(cells), y + 0.1f, 0.9f});
+    const float shift = -0.1f - 0.02f * float(k) / float(slivers);
+    add_triangle(scene, {0.0f, 0.3f, 0.3f + shift}, {float(cells), 0.3f, 0.3f + shift},
+                 {float(cells), 0.95f, 0.95f + shift});
   }
   return scene;
 }
 
-// Rays through the row end to end, half of them each way, inside y, z in [0.2, 0.8].
+// Rays through the row end to end, half of them each way, nearly parallel to x (see
+// cell_row): tilted by at most 0.01 over the row, not parallel, so that no triangle's
+// projection onto the ray's plane collapses and every test is the kernel's ordinary one.
 std::vector<Ray> rays_along_row(int cells, int count, std::mt19937_64& rng) {
-  std::uniform_real_distribution<float> middle(0.3f, 0.7f), tilt(-0.1f, 0.1f);
+  std::uniform_real_distribution<float> y_at(0.56f, 0.64f), above(0.06f, 0.12f),
+      tilt(-0.01f, 0.01f);
   std::vector<Ray> rays(static_cast<size_t>(count));
   for (int i = 0; i < count; ++i) {
     const float sign = i % 2 == 0 ? 1.0f : -1.0f;
-    rays[i].origin = {sign > 0 ? -1.0f : float(cells) + 1.0f, middle(rng), middle(rng)};
+    const float y = y_at(rng);
+    rays[i].origin = {sign > 0 ? -1.0f : float(cells) + 1.0f, y, y + above(rng)};
     rays[i].dir = {sign * (float(cells) + 2.0f), tilt(rng), tilt(rng)};
   }
   return rays;
 }
 
-// n^3 small triangles, one at the centre of each unit cube of [0, n]^3 (n a power of two).
-// Cut in halves along x, y, z in turn, every voxel down to depth 3 log2(n) holds two or
-// more, so a ray starting anywhere goes down that many subdivided voxels to its leaf.
+// n^3 small triangles, one at the centre c of each unit cube of [0, n]^3 (n a power of two),
+// in the plane z = c.z, covering the half x + y <= c.x + c.y of a 0.2-wide square. Cut in
+// halves along x, y, z in turn, every voxel down to depth 3 log2(n) holds two or more.
 Scene lattice(int n) {
   Scene scene;
   scene.name = "calibration lattice";
@@ -201,21 +215,23 @@ Scene lattice(int n) {
       for (int k = 0; k < n; ++k) {
         const glm::vec3 c(float(i) + 0.5f, float(j) + 0.5f, float(k) + 0.5f);
         add_triangle(scene, c + glm::vec3(-0.1f, -0.1f, 0.0f), c + glm::vec3(0.1f, -0.1f, 0.0f),
-                     c + glm::vec3(0.0f, 0.1f, 0.1f));
+                     c + glm::vec3(-0.1f, 0.1f, 0.0f));
       }
   return scene;
 }
 
-// Rays from random points inside the lattice, ending long before they leave their cell:
-// the descent to the leaf and its one test are all they do.
+// Rays from random points inside the lattice's cubes, each through the uncovered half of
+// its cube's triangle square and ending just past it: the walk goes down every level to the
+// cube's leaf (the ray crosses its triangle's box), tests the triangle and misses it.
 std::vector<Ray> short_rays_inside(int n, int count, std::mt19937_64& rng) {
-  std::uniform_real_distribution<float> inside(0.5f, float(n) - 0.5f);
-  std::normal_distribution<float> gauss;
+  std::uniform_int_distribution<int> cube(0, n - 1);
+  std::uniform_real_distribution<float> inside(0.05f, 0.95f);
   std::vector<Ray> rays(static_cast<size_t>(count));
   for (Ray& ray : rays) {
-    ray.origin = {inside(rng), inside(rng), inside(rng)};
-    ray.dir = glm::normalize(glm::vec3(gauss(rng), gauss(rng), gauss(rng)));
-    ray.tmax = 1e-3f;
+    const glm::vec3 corner(float(cube(rng)), float(cube(rng)), float(cube(rng)));
+    ray.origin = corner + glm::vec3(inside(rng), inside(rng), inside(rng));
+    ray.dir = corner + glm::vec3(0.55f, 0.55f, 0.5f) - ray.origin;
+    ray.tmax = 1.01f;
   }
   return rays;
 }
@@ -247,21 +263,22 @@ constexpr int kRaysPerScenario = 2048;
 std::vector<Scenario> make_scenarios(std::mt19937_64& rng) {
   std::vector<Scenario> scenarios;
   const auto root_cells = [](const Grid1D& grid) { return double(grid.voxel(0).granularity); };
-  // One leaf (max granularity 1: nothing is cut) of n triangles: n tests per ray.
+  // One leaf (max granularity 1: nothing is cut) of n triangles, the root: n tests per ray.
   for (const int n : {8, 64, 512})
-    scenarios.push_back({"tests, leaf of " + std::to_string(n), cell_row(n, 1, 0),
+    scenarios.push_back({"tests, leaf of " + std::to_string(n), cell_row(n, 1, 0, 0),
                          shaping_params(1, 0), rays_along_row(n, kRaysPerScenario, rng), kTestTerm,
                          [n](const Grid1D&) { return double(n); }});
-  // The row cut into its cells, every other one holding a triangle: a step per cell.
+  // The row cut into its cells, every other one holding a panel: a step per panel.
   for (const int cells : {16, 64, 256})
-    scenarios.push_back({"steps, " + std::to_string(cells) + " cells", cell_row(cells, 2, 0),
+    scenarios.push_back({"steps, " + std::to_string(cells) + " cells", cell_row(cells, 1, 2, 0),
                          shaping_params(cells, 1), rays_along_row(cells, kRaysPerScenario, rng),
-                         kStepTerm, [=](const Grid1D& grid) { return root_cells(grid) - 1.0; }});
+                         kStepTerm, [=](const Grid1D& grid) { return root_cells(grid) / 2.0; }});
   // Slivers spanning the row: met again, and rejected, in every cell after the first.
   constexpr int kSliverRowCells = 32;
   for (const int slivers : {16, 64})
     scenarios.push_back({"rejections, " + std::to_string(slivers) + " slivers",
-                         cell_row(kSliverRowCells, 1, slivers), shaping_params(kSliverRowCells, 1),
+                         cell_row(kSliverRowCells, 1, 0, slivers),
+                         shaping_params(kSliverRowCells, 1),
                          rays_along_row(kSliverRowCells, kRaysPerScenario, rng), kRejectionTerm,
                          [=](const Grid1D& grid) { return slivers * (root_cells(grid) - 1.0); }});
   // Halved on x, y, z in turn down to single triangles: 3 log2(n) descents per ray.
@@ -321,26 +338,19 @@ double warm_seconds_per_ray(const Accelerator& accel, const std::vector<Ray>& ra
   return median_of_passes(pass, share) / double(rays.size());
 }
 
-// The rays' work per ray and warm time per ray. Descents (set-ups in subdivided voxels)
-// come from each ray's recorded walk: the same traversal, with a recorder.
+// The rays' work per ray, as the traversal counted it, and warm time per ray.
 WorkSample measure(const std::string& label, const Accelerator& accel, const std::vector<Ray>& rays,
                    double share) {
   TraceCounters counters;
   WorkSample row;
   row.label = label;
   row.seconds = warm_seconds_per_ray(accel, rays, share, counters);
-  const std::unique_ptr<ThreadContext> context = accel.make_context();
-  double descents = 0.0;
-  for (const Ray& ray : rays) {
-    const Walk walk = accel.record_walk(ray, *context).value();
-    for (const WalkCell& cell : walk.cells) descents += double(cell.descents.size());
-  }
   const double n = double(rays.size());
   row.rays = n;
   row.tests = double(counters.intersection_tests) / n;
   row.rejections = double(counters.mailbox_rejections) / n;
   row.steps = double(counters.traversal_steps) / n;
-  row.descents = descents / n;
+  row.descents = double(counters.descents) / n;
   return row;
 }
 

@@ -18,6 +18,7 @@ void TraceCounters::add(const TraceCounters& other) {
   intersection_tests += other.intersection_tests;
   mailbox_rejections += other.mailbox_rejections;
   traversal_steps += other.traversal_steps;
+  descents += other.descents;
   voxels_built += other.voxels_built;
   lazy_build_seconds += other.lazy_build_seconds;
 }

@@ -23,7 +23,8 @@ class Grid1D;
 struct TraceCounters {
   uint64_t intersection_tests = 0;  // real ray/triangle tests, mailbox rejections excluded
   uint64_t mailbox_rejections = 0;
-  uint64_t traversal_steps = 0;     // cell-to-cell steps
+  uint64_t traversal_steps = 0;     // cell-to-cell steps (each structure says what a step is)
+  uint64_t descents = 0;            // set-ups in a subdivided voxel (grid1d: §6.2's Vertcost)
   uint64_t voxels_built = 0;        // voxels this thread examined (cut or made leaves) lazily
   double lazy_build_seconds = 0.0;  // time this thread spent building voxels
 
@@ -62,6 +63,7 @@ struct StructureStats {
   // counted (embree): run_stats writes those counters as null instead of a made-up 0.
   bool counts_tests = true;
   bool counts_steps = true;
+  bool counts_descents = false;  // only grid1d goes down into subdivided voxels one by one
 };
 
 class Accelerator {

@@ -30,12 +30,14 @@ inline constexpr uint64_t kMaxMemoryBudget = uint64_t{1} << 40;
 // Every structure parameter, named after the paper (§6.2) where the paper names it.
 // Each run echoes these into its stats.
 struct AccelParams {
-  // Section 6.2 code timings, relative units (calibrated constants come later).
-  double intcost = 1.0;   // one ray/triangle test
-  double repcost = 0.2;   // a mailbox-rejected repeat
-  double travcost = 1.0;  // one cell step
-  double vertcost = 6.0;  // initialising a ray in a subdivided voxel
-  double subcost = 2.0;   // sorting one triangle into a voxel's cells
+  // Section 6.2 code timings, relative units: `gridscope calibrate` on the development
+  // machine (AVX-512 kernel; README "Performance" gives the runs) measured intcost 1 (5-6 ns
+  // a test), repcost 0.34-0.40, travcost 10-18, vertcost 9-14, subcost 23-31.
+  double intcost = 1.0;    // one ray/triangle test
+  double repcost = 0.35;   // a mailbox-rejected repeat
+  double travcost = 12.0;  // one step: a cell the walk looks at
+  double vertcost = 10.0;  // initialising a ray in a subdivided voxel
+  double subcost = 25.0;   // sorting one triangle into a voxel's cells
   int max_granularity = 20;
   AxisRule axis = AxisRule::alternate;
   // Each structure's own limits; 0 means the structure's default (the registry lists them).

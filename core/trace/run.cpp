@@ -49,6 +49,7 @@ nlohmann::json run_stats(const Scene& scene, const Accelerator& accel, nlohmann:
   stats["intersection_tests"] = counted(structure.counts_tests, counters.intersection_tests);
   stats["mailbox_rejections"] = counted(structure.counts_tests, counters.mailbox_rejections);
   stats["traversal_steps"] = counted(structure.counts_steps, counters.traversal_steps);
+  stats["descents"] = counted(structure.counts_descents, counters.descents);
   stats["memory_bytes"] = structure.memory_bytes;
   stats["voxels_over_budget"] = structure.voxels_over_budget;
   return stats;

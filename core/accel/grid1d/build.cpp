@@ -512,6 +512,7 @@ StructureStats Grid1D::stats() const {
   s.voxels_subdivided = subdivided_.load();
   s.leaves = voxels_.size() - subdivided_.load();
   s.traversal_states = states_.size();
+  s.counts_descents = true;
   s.depth = deepest_.load();
   s.memory_bytes = bytes_used_ + input_.triangles.size() * sizeof(TriangleVerts) +
                    input_.boxes.size() * sizeof(double) + sample_.size() * sizeof(SampleRay) +

@@ -12,7 +12,9 @@ namespace gs {
 struct Calibration {
   // Relative to intcost; a constant the measurements could not pin down keeps its default
   // (AccelParams) and detail["unidentified"] says why.
-  double intcost = 1.0, repcost = 0.2, travcost = 1.0, vertcost = 6.0, subcost = 2.0;
+  double intcost = AccelParams{}.intcost, repcost = AccelParams{}.repcost,
+         travcost = AccelParams{}.travcost, vertcost = AccelParams{}.vertcost,
+         subcost = AccelParams{}.subcost;
   double nanoseconds_per_unit = 0.0;  // one intcost in ns; 0 when unknown
   // Per constant its time and standard error, the fit's rows and residual, the build
   // figures, the out-of-sample check on built-in scenes.

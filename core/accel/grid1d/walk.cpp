@@ -342,6 +342,7 @@ template <class Recorder>
   }
   activate(int(b), id, node.state, walk);
   walk.t_next[b] = values.t_next;
+  ++context.counters.descents;
   recorder.descent(id, local, state_case);
   return local;
 }
