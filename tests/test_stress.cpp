@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <glm/geometric.hpp>
 
 #include "core/accel/grid1d/grid1d.h"
 #include "tests/cases.h"
@@ -30,6 +31,39 @@ std::vector<Ray> mixed_rays(const Scene& scene) {
 TEST(Stress, NegativeZeroAndTinyDirectionComponents) {
   const Scene scene = test::small_sphere_in_soup();
   EXPECT_EQ(disagreements(scene, test::negative_zero_and_tiny_chords(scene.bounds(), 8, 6000)), 0u);
+}
+
+// Rays from 1e3 to 1e28 times the scene's size away, aimed at the sphere's vertices, edge
+// midpoints and face centres, some along an axis: the kernel tests the line through the
+// origin moved to the box entry in double, off the true line by up to ~1e12 that far out;
+// every structure, walking that same line, answers as brute does.
+TEST(Stress, OriginsFarAwayGetBrutesAnswers) {
+  const Scene scene = test::make_sphere({0.25f, -0.5f, 0.75f}, 1.0f, 12, 24);
+  std::vector<Ray> rays;
+  uint32_t seed = 9;
+  for (const float distance : {1e3f, 1e7f, 1e12f, 1e20f, 1e28f}) {
+    for (uint32_t id = 0; id < scene.triangle_count(); id += 3) {
+      const glm::vec3 a = scene.vertex(id, 0), b = scene.vertex(id, 1), c = scene.vertex(id, 2);
+      const glm::vec3 targets[3] = {a, 0.5f * (a + b), (a + b + c) / 3.0f};
+      for (const glm::vec3& target : targets) {
+        seed = seed * 1664525u + 1013904223u;
+        glm::vec3 away(float(seed >> 8 & 255) - 127.5f, float(seed >> 16 & 255) - 127.5f,
+                       float(seed >> 24) - 127.5f);
+        if (seed % 5 == 0) away = glm::vec3(0.0f), away[seed % 3] = seed % 2 ? 1.0f : -1.0f;
+        Ray ray;
+        ray.origin = target + distance * glm::normalize(away);
+        ray.dir = target - ray.origin;
+        rays.push_back(ray);
+      }
+    }
+  }
+  const std::vector<Hit> expected = test::brute_answers(scene, rays);
+  size_t hits = 0;
+  for (const Hit& hit : expected) hits += hit.found();
+  EXPECT_GT(hits, rays.size() / 10);
+  for (const std::string name : {"grid1d", "uniform", "octree", "grid3d", "bvh"})
+    EXPECT_EQ(test::disagreements(scene, rays, test::lazy_and_eager_runs(name), expected), 0u)
+        << name;
 }
 
 // A unit-box scene cut with granularity 2 has its walls at multiples of 1/2^k, exact in

@@ -239,24 +239,26 @@ Hit Bvh::any_hit(const Ray& ray, ThreadContext& context) const {
 // Clips as brute does, then walks the tree nearer child first, skipping every node whose
 // entry lies beyond the nearest hit so far (ties kept by `closer`, so an equal-t hit in a
 // later node still wins by its lower id). `limit` is that stop distance in float, rounded
-// up and widened by Ize's bound for the entry's own rounding.
+// up and widened by Ize's bound for the entry's own rounding. The node tests are made on
+// the ray's own line in float; from an origin so far away that the line the kernel tests
+// lies off it by more than the padding (WalkLine::far), no node is culled.
 template <bool AnyHit>
 Hit Bvh::trace(const Ray& ray, MailboxContext& context) const {
   Hit best;
-  double t_enter, t_leave, inv_dir[3];
-  if (nodes_.empty() || !input_.clip.clip(ray, t_enter, t_leave, inv_dir)) return best;
+  WalkLine line;
+  if (nodes_.empty() || !start_walk(input_.clip, ray, line)) return best;
   RayBox rb;
   for (int a = 0; a < 3; ++a) {
-    rb.origin[a] = ray.origin[a];
-    rb.inv_dir[a] = 1.0f / ray.dir[a];
+    rb.origin[a] = line.far ? 0.0f : ray.origin[a];
+    rb.inv_dir[a] = line.far ? 0.0f : 1.0f / ray.dir[a];
     rb.near[a] = std::signbit(ray.dir[a]) ? 1 : 0;
   }
-  const double slack = walk_slack(ray, input_.clip.magnitude, inv_dir);
-  rb.t_lo = float_down(t_enter - slack);
+  constexpr float kNever = std::numeric_limits<float>::infinity();
+  rb.t_lo = line.far ? -kNever : float_down(line.shift - line.slack);
   const auto limit_of = [&](float tmax) {
-    return widened(float(stop_distance(tmax, slack)), 4 * kGamma3);
+    return line.far ? kNever : widened(float(stop_distance(tmax, line.slack)), 4 * kGamma3);
   };
-  const PreparedRay<KernelReal> prepared(ray, t_enter, inv_dir);
+  const PreparedRay<KernelReal> prepared(ray, line.shift, line.inv_dir);
   float tmax = ray.tmax;
   float limit = limit_of(tmax);
   TraceCounters& counters = context.counters;

@@ -41,9 +41,9 @@ struct NestedGrid::Plan {
 // One ray's walk, shared by every level: the ray in double, the kernel's prepared ray and
 // the nearest hit so far.
 struct NestedGrid::RayWalk {
-  double origin[3], dir[3], inv_dir[3];
+  WalkLine line;  // the line the kernel tests (start_walk); t is measured along it
   int step[3];
-  double slack;
+  double stop;  // the stop distance of the nearest hit so far (or of tmax)
   float tmax;
   uint64_t ray_id;
   const PreparedRay<KernelReal>* prepared;
@@ -101,23 +101,19 @@ Hit NestedGrid::any_hit(const Ray& ray, ThreadContext& context) const {
   return trace<true>(ray, static_cast<MailboxContext&>(context));
 }
 
-// Clips the ray to the scene box exactly as brute does (the kernel sees the origin moved
-// to t_enter), then walks the root grid from there.
+// Clips the ray to the scene box exactly as brute does, then walks the root grid along
+// the line the kernel tests (start_walk).
 template <bool AnyHit>
 Hit NestedGrid::trace(const Ray& ray, MailboxContext& context) const {
   RayWalk w;
-  double t_enter, t_leave;
-  if (!has_root_ || !input_.clip.clip(ray, t_enter, t_leave, w.inv_dir)) return Hit{};
-  for (int a = 0; a < 3; ++a) {
-    w.origin[a] = ray.origin[a], w.dir[a] = ray.dir[a];
-    w.step[a] = w.dir[a] > 0.0 ? 1 : w.dir[a] < 0.0 ? -1 : 0;
-  }
-  w.slack = walk_slack(ray, input_.clip.magnitude, w.inv_dir);
+  if (!has_root_ || !start_walk(input_.clip, ray, w.line)) return Hit{};
+  for (int a = 0; a < 3; ++a) w.step[a] = step_of(ray.dir[a]);
   w.tmax = ray.tmax;
+  w.stop = w.line.stop(w.tmax);
   w.ray_id = context.mailbox.next_ray();
-  const PreparedRay<KernelReal> prepared(ray, t_enter, w.inv_dir);
+  const PreparedRay<KernelReal> prepared(ray, w.line.shift, w.line.inv_dir);
   w.prepared = &prepared;
-  walk<AnyHit>(0, t_enter, -1, w, context);
+  walk<AnyHit>(0, w.line.t0, -1, w, context);
   return w.best;
 }
 
@@ -135,14 +131,15 @@ bool NestedGrid::walk(uint32_t grid_id, double t_cur, int entered_axis, RayWalk&
     if (a == entered_axis)
       index[a] = w.step[a] > 0 ? 0 : g.res[a] - 1;
     else
-      index[a] = locate(w.origin[a] + t_cur * w.dir[a], g.lo[a], g.inv_width[a], g.res[a]);
+      index[a] =
+          locate(w.line.origin[a] + t_cur * w.line.dir[a], g.lo[a], g.inv_width[a], g.res[a]);
     if (w.step[a] == 0) {
       t_next[a] = kInf;
       continue;
     }
     // Wall I lies at lo + I * width: its distance comes from the integer index.
-    t_origin[a] = (g.lo[a] - w.origin[a]) * w.inv_dir[a];
-    t_width[a] = g.width[a] * w.inv_dir[a];
+    t_origin[a] = (g.lo[a] - w.line.origin[a]) * w.line.inv_dir[a];
+    t_width[a] = g.width[a] * w.line.inv_dir[a];
     t_next[a] = t_origin[a] + double(index[a] + (w.step[a] > 0)) * t_width[a];
   }
   for (;;) {
@@ -153,13 +150,14 @@ bool NestedGrid::walk(uint32_t grid_id, double t_cur, int entered_axis, RayWalk&
     if (status == kUnexamined) status = examine(id, context);
     if (status == kSplit) {
       if (walk<AnyHit>(cell.child, t_cur, entered_axis, w, context)) return true;
-    } else if (test_cell<AnyHit>(cell, w, context) && AnyHit) {
-      return true;
+    } else if (test_cell<AnyHit>(cell, w, context)) {
+      if (AnyHit) return true;
+      w.stop = w.line.stop(w.tmax);
     }
     const int s =
         t_next[1] < t_next[0] ? (t_next[2] < t_next[1] ? 2 : 1) : (t_next[2] < t_next[0] ? 2 : 0);
     const double t_exit = t_next[s];
-    if (t_exit > stop_distance(w.tmax, w.slack)) return true;
+    if (t_exit > w.stop) return true;
     index[s] += w.step[s];
     if (index[s] < 0 || index[s] >= g.res[s]) return false;
     t_next[s] = t_origin[s] + double(index[s] + (w.step[s] > 0)) * t_width[s];

@@ -190,49 +190,47 @@ Hit Octree::any_hit(const Ray& ray, ThreadContext& context) const {
 // nearest wall and locate the finest cell just beyond. The cell on the exit axis is the
 // neighbour's by integer arithmetic; on the other axes it comes from the exit point, kept
 // inside the leaf just left and never behind the previous cell, so the walk always advances
-// (it ends after at most 3 * 2^depth leaves). As in brute, the kernel sees the origin moved to
-// the box entry; the walk stops once a leaf's exit passes the nearest hit plus the slack.
+// (it ends after at most 3 * 2^depth leaves). The walk follows the line the kernel tests
+// (start_walk) and stops once a leaf's exit passes the nearest hit plus the slack.
 template <bool AnyHit>
 Hit Octree::trace(const Ray& ray, MailboxContext& context) const {
   Hit best;
-  double t_enter, t_leave, inv_dir[3];
-  if (!input_.clip.clip(ray, t_enter, t_leave, inv_dir)) return best;
-  const double slack = walk_slack(ray, input_.clip.magnitude, inv_dir);
-  double origin[3], dir[3];
+  WalkLine line;
+  if (!start_walk(input_.clip, ray, line)) return best;
   int step[3];
   uint32_t fine[3];
   for (int a = 0; a < 3; ++a) {
-    origin[a] = ray.origin[a], dir[a] = ray.dir[a];
     step[a] = step_of(ray.dir[a]);
-    fine[a] = fine_cell(a, origin[a] + t_enter * dir[a]);
+    fine[a] = fine_cell(a, line.origin[a] + line.t0 * line.dir[a]);
   }
-  const PreparedRay<KernelReal> prepared(ray, t_enter, inv_dir);
+  const PreparedRay<KernelReal> prepared(ray, line.shift, line.inv_dir);
   float tmax = ray.tmax;
+  double stop = line.stop(tmax);
   const uint64_t ray_id = context.mailbox.next_ray();
   uint64_t leaves = 0;
   for (;;) {
     const Located leaf = locate(fine);
     ++leaves;
     const Node& node = nodes_[leaf.node];
-    if (node.count > 0 &&
-        test_leaf<AnyHit>(leaves_.view(node.first), kernel_, prepared, ray_id, tmax, best,
-                          context.mailbox, context.counters) &&
-        AnyHit)
-      break;
+    if (node.count > 0 && test_leaf<AnyHit>(leaves_.view(node.first), kernel_, prepared, ray_id,
+                                            tmax, best, context.mailbox, context.counters)) {
+      if (AnyHit) break;
+      stop = line.stop(tmax);
+    }
     double t_exit = kInf;
     int s = -1;
     for (int a = 0; a < 3; ++a) {
       if (step[a] == 0) continue;
       const uint32_t index = step[a] > 0 ? leaf.lo[a] + leaf.size : leaf.lo[a];
-      const double t = (wall(a, index) - origin[a]) * inv_dir[a];
+      const double t = (wall(a, index) - line.origin[a]) * line.inv_dir[a];
       if (t < t_exit) t_exit = t, s = a;
     }
-    if (s < 0 || t_exit > stop_distance(tmax, slack)) break;
+    if (s < 0 || t_exit > stop) break;
     const uint32_t next = step[s] > 0 ? leaf.lo[s] + leaf.size : leaf.lo[s] - 1;
     if (next >= fine_) break;  // left the box (below 0 wraps around)
     for (int c = 0; c < 3; ++c) {
       if (c == s || step[c] == 0) continue;
-      const uint32_t at = fine_cell(c, origin[c] + t_exit * dir[c]);
+      const uint32_t at = fine_cell(c, line.origin[c] + t_exit * line.dir[c]);
       const uint32_t last = leaf.lo[c] + leaf.size - 1;
       fine[c] = step[c] > 0 ? std::clamp(at, fine[c], last) : std::clamp(at, leaf.lo[c], fine[c]);
     }

@@ -192,50 +192,52 @@ Hit UniformGrid::any_hit(const Ray& ray, ThreadContext& context) const {
   return trace<true>(ray, static_cast<MailboxContext&>(context));
 }
 
-// Amanatides & Woo's 3D DDA: clip to the box (exactly as brute), start in the cell where
-// the ray enters, then step through the nearest wall. A hit may lie beyond the current cell,
-// so the walk goes on until the cell's exit passes the nearest hit (plus the kernel's slack).
+// Amanatides & Woo's 3D DDA along the line the kernel tests (start_walk): start in the cell
+// where it enters the box, then step through the nearest wall. A hit may lie beyond the
+// current cell, so the walk goes on until the cell's exit passes the nearest hit (plus the
+// kernel's slack).
 template <bool AnyHit>
 Hit UniformGrid::trace(const Ray& ray, MailboxContext& context) const {
   Hit best;
-  double t_enter, t_leave, inv_dir[3];
-  if (!input_.clip.clip(ray, t_enter, t_leave, inv_dir)) return best;
-  const double slack = walk_slack(ray, input_.clip.magnitude, inv_dir);
+  WalkLine line;
+  if (!start_walk(input_.clip, ray, line)) return best;
   const int64_t strides[3] = {1, int64_t(n_[0]), int64_t(n_[0]) * n_[1]};
-  double origin[3], t_next[3];
+  double t_next[3];
   int step[3];
   uint32_t cell[3];
   int64_t index = 0, stride[3];
   for (int a = 0; a < 3; ++a) {
-    origin[a] = ray.origin[a];
     step[a] = step_of(ray.dir[a]);
-    cell[a] = locate(a, origin[a] + t_enter * double(ray.dir[a]));
-    t_next[a] = step[a] == 0 ? kInf : (walls_[a][cell[a] + (step[a] > 0)] - origin[a]) * inv_dir[a];
+    cell[a] = locate(a, line.origin[a] + line.t0 * line.dir[a]);
+    t_next[a] = step[a] == 0
+                    ? kInf
+                    : (walls_[a][cell[a] + (step[a] > 0)] - line.origin[a]) * line.inv_dir[a];
     stride[a] = step[a] * strides[a];
     index += int64_t(cell[a]) * strides[a];
   }
-  const PreparedRay<KernelReal> prepared(ray, t_enter, inv_dir);
+  const PreparedRay<KernelReal> prepared(ray, line.shift, line.inv_dir);
   float tmax = ray.tmax;
+  double stop = line.stop(tmax);
   const uint64_t ray_id = context.mailbox.next_ray();
   uint64_t steps = 0;
   for (;;) {
     const uint32_t leaf = cell_leaf_[index];
-    if (leaf != kEmptyCell &&
-        test_leaf<AnyHit>(leaves_.view(leaf), kernel_, prepared, ray_id, tmax, best,
-                          context.mailbox, context.counters) &&
-        AnyHit)
-      break;
+    if (leaf != kEmptyCell && test_leaf<AnyHit>(leaves_.view(leaf), kernel_, prepared, ray_id, tmax,
+                                                best, context.mailbox, context.counters)) {
+      if (AnyHit) break;
+      stop = line.stop(tmax);
+    }
     // Selects, not branches: which axis comes next is unpredictable.
     const bool y_first = t_next[1] < t_next[0];
     const double t_xy = y_first ? t_next[1] : t_next[0];
     const bool z_first = t_next[2] < t_xy;
     const int s = z_first ? 2 : int(y_first);
     const double t_exit = z_first ? t_next[2] : t_xy;
-    if (t_exit > stop_distance(tmax, slack) || t_exit == kInf) break;
+    if (t_exit > stop || t_exit == kInf) break;
     cell[s] += uint32_t(step[s]);
     if (cell[s] >= n_[s]) break;  // left the grid (below 0 wraps around)
     index += stride[s];
-    t_next[s] = (walls_[s][cell[s] + (step[s] > 0)] - origin[s]) * inv_dir[s];
+    t_next[s] = (walls_[s][cell[s] + (step[s] > 0)] - line.origin[s]) * line.inv_dir[s];
     ++steps;
   }
   context.counters.traversal_steps += steps;

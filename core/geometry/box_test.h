@@ -29,15 +29,17 @@ inline constexpr uint32_t box_floats(uint32_t count) { return 6 * box_stride(cou
 
 // The ray as the box test reads it, per axis in all four lanes. A zero direction component
 // gives 1 / dir = inf, and a face the origin lies on 0 * inf = NaN, which the test's max/min
-// ignore: that axis does not constrain the ray, as it should not.
+// ignore: that axis does not constrain the ray, as it should not. Without `cull`, every box
+// is reported crossed (origin and 1 / dir zero: every slab distance 0 or NaN), for callers
+// whose walk does not follow the ray's own line (WalkLine::far).
 struct RayBoxes {
   __m128 origin[3], inv_dir[3];
   uint32_t near_array[3], far_array[3];  // per axis: which of the six arrays it meets first
 
-  explicit RayBoxes(const Ray& ray) {
+  explicit RayBoxes(const Ray& ray, bool cull = true) {
     for (uint32_t a = 0; a < 3; ++a) {
-      origin[a] = _mm_set1_ps(ray.origin[a]);
-      inv_dir[a] = _mm_set1_ps(1.0f / ray.dir[a]);
+      origin[a] = _mm_set1_ps(cull ? ray.origin[a] : 0.0f);
+      inv_dir[a] = _mm_set1_ps(cull ? 1.0f / ray.dir[a] : 0.0f);
       // -0 too: 1 / -0 = -inf, the ray meets the hi face first.
       const bool toward_lo = std::signbit(ray.dir[a]);
       near_array[a] = toward_lo ? 3 + a : a;

@@ -35,6 +35,34 @@ double ClipBox::min_cell_width(const double lo[3], const double hi[3]) const {
   return std::max(kMinCellUlps * FLT_EPSILON * local_magnitude, kMinCellPaddings * padding);
 }
 
+bool start_walk(const ClipBox& box, const Ray& ray, WalkLine& line) {
+  double t_leave;
+  if (!box.clip(ray, line.shift, t_leave, line.inv_dir)) return false;
+  line.slack = walk_slack(ray, box.magnitude, line.inv_dir);
+  line.far = false;
+  for (int a = 0; a < 3; ++a) {
+    line.dir[a] = ray.dir[a];
+    // PreparedRay's origin, computed the same way.
+    line.origin[a] = double(ray.origin[a]) + line.shift * double(ray.dir[a]);
+    line.far |= !(std::fabs(double(ray.origin[a])) <= WalkLine::kNearRange * box.magnitude);
+  }
+  // The moved line's own interval in the box; the kernel accepts nothing before tmin.
+  line.t0 = double(ray.tmin) - line.shift - line.slack, line.t1 = kInf;
+  for (int a = 0; a < 3; ++a) {
+    if (line.dir[a] == 0.0) {
+      if (line.origin[a] < box.lo[a] || line.origin[a] > box.hi[a]) return false;
+      continue;
+    }
+    double ta = (box.lo[a] - line.origin[a]) * line.inv_dir[a];
+    double tb = (box.hi[a] - line.origin[a]) * line.inv_dir[a];
+    if (ta > tb) std::swap(ta, tb);
+    line.t0 = std::max(line.t0, ta), line.t1 = std::min(line.t1, tb);
+  }
+  return line.t0 <= line.t1;
+}
+
+double WalkLine::stop(float tmax) const { return stop_distance(tmax, slack) - shift; }
+
 bool ray_is_valid(const Ray& ray) {
   // x - x is NaN exactly when x is infinite or NaN: one test for the six components.
   const glm::vec3 o = ray.origin, d = ray.dir;

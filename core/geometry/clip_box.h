@@ -80,6 +80,27 @@ inline double walk_slack(const Ray& ray, double scene_magnitude, const double in
   return 1e-9 * largest * shortest_inverse;
 }
 
+// The line a structure walks: the one the kernel tests (PreparedRay moves the origin to
+// where the ray enters the clip box, in double), with t measured from there: t' = t - shift.
+// Walking the kernel's own line keeps every structure exact wherever the ray starts: for an
+// origin far away the moved origin lies off the true line by far more than the padding, and
+// a walk along the true line would miss hits the kernel reports (docs/design.md §6.2).
+struct WalkLine {
+  // Beyond this many times the scene's magnitude, the moved origin may lie off the true
+  // line by more than a tenth of the padding (double rounding: ~1e-15 of the distance), so
+  // tests made on the true line in float (content and node boxes) are not made at all.
+  static constexpr double kNearRange = 1e4;
+  double origin[3], dir[3], inv_dir[3];
+  double shift;   // t_enter of ClipBox::clip: true t = t' + shift
+  double t0, t1;  // the interval of t' the walk covers: inside the clip box, from tmin on
+  double slack;   // walk_slack
+  bool far;       // the true origin lies beyond kNearRange times the scene's magnitude
+  // The stop distance of stop_distance(tmax, slack), in t'.
+  double stop(float tmax) const;
+};
+// False when the ray misses the clip box (or is invalid): then the kernel is never called.
+bool start_walk(const ClipBox& box, const Ray& ray, WalkLine& line);
+
 // The next float above x (toward +infinity); x itself for +infinity and NaN. What
 // std::nextafter(x, +inf) gives, without the library call.
 inline float next_float_up(float x) {

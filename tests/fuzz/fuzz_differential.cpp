@@ -319,40 +319,18 @@ Reference brute_reference(const Scene& scene, const std::vector<Ray>& rays, Outc
   return ref;
 }
 
-// Structures promise brute's answers bit for bit for rays starting up to about 1e6 times
-// the scene's coordinate magnitude away: ClipBox's padding covers the double rounding of a
-// walk's cell location that far (core/geometry.h), no farther. From farther away a walk may
-// miss a hit (the uniform grid does, from 1e28 away); what it does answer must still be
-// sound: the triangle's own answer, and never nearer than brute's.
-bool in_exact_range(const Ray& ray, const ClipBox& box) {
-  constexpr double kExactRange = 1e6;
-  for (int a = 0; a < 3; ++a)
-    if (!(std::fabs(double(ray.origin[a])) <= kExactRange * box.magnitude)) return false;
-  return true;
-}
-
 void compare(const std::string& what, const Scene& scene, const std::vector<Ray>& rays,
              const std::vector<Hit>& nearest, const std::vector<Hit>& any, const Reference& ref,
              Outcome& outcome) {
-  const ClipBox box(scene.bounds());
   for (size_t i = 0; i < rays.size(); ++i) {
     const std::string ray = "ray " + std::to_string(i) + " (" + describe(rays[i]) + ")";
     const Hit& brute = ref.nearest[i];
-    if (in_exact_range(rays[i], box)) {
-      if (!same_bits(nearest[i], brute))
-        report(outcome, what + ": " + ray + " nearest " + describe(nearest[i]) + ", brute " +
-                            describe(brute));
-      if (any[i].found() != ref.blocked[i])
-        report(outcome, what + ": " + ray + " any-hit " + describe(any[i]) + ", brute " +
-                            (ref.blocked[i] ? "blocked" : "not blocked"));
-    } else if (nearest[i].found()) {
-      if (closer(nearest[i].t, nearest[i].id, brute))
-        report(outcome, what + ": " + ray + " nearest " + describe(nearest[i]) +
-                            " is nearer than brute's " + describe(brute));
-      if (!blocks(scene, rays[i], nearest[i]))
-        report(outcome, what + ": " + ray + " nearest " + describe(nearest[i]) +
-                            " is not that triangle's own answer");
-    }
+    if (!same_bits(nearest[i], brute))
+      report(outcome,
+             what + ": " + ray + " nearest " + describe(nearest[i]) + ", brute " + describe(brute));
+    if (any[i].found() != ref.blocked[i])
+      report(outcome, what + ": " + ray + " any-hit " + describe(any[i]) + ", brute " +
+                          (ref.blocked[i] ? "blocked" : "not blocked"));
     if (any[i].found() && !blocks(scene, rays[i], any[i]))
       report(outcome, what + ": " + ray + " any-hit " + describe(any[i]) +
                           " is not that triangle's own answer");

@@ -138,6 +138,7 @@ class Grid1D final : public Accelerator {
   template <bool AnyHit, class Recorder>
   bool search_unbuilt(uint32_t voxel, RayWalk& walk, Context& context, Recorder& recorder) const;
   uint32_t cursor_voxel(const Cursor& cursor) const;
+  void set_stop(RayWalk& walk) const;
 
   // Lazy build (build.cpp).
   uint32_t examine(uint32_t voxel, Context& context) const;

@@ -128,6 +128,7 @@ struct Grid1D::RayWalk {
   uint32_t active_state[3];
   double t_next[3];  // the active states' t_next, kept at hand for choosing the step axis
   uint64_t ray_id;
+  const WalkLine* line;  // the line walked: origin, dir, inv_dir above are its
   const PreparedRay<KernelReal>* prepared;
   const RayBoxes* boxes;
   double stop;        // stop_distance of the nearest hit so far (or of tmax)

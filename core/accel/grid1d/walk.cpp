@@ -9,6 +9,7 @@
 // nothing, and the viewer's walk is this same code (docs/design.md §2).
 #include <algorithm>
 #include <bit>
+#include <limits>
 
 #include "core/accel/grid1d/records.h"
 
@@ -17,6 +18,7 @@ namespace {
 
 // The two axes other than a: kNextAxis[a] and kNextAxis[a + 1].
 constexpr int kNextAxis[4] = {1, 2, 0, 1};
+constexpr float kInfinityF = std::numeric_limits<float>::infinity();
 
 }  // namespace
 
@@ -94,13 +96,13 @@ std::optional<Walk> Grid1D::record_walk(const Ray& ray, ThreadContext& context) 
 template <bool AnyHit, class Recorder>
 Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
   RayWalk walk;
-  double t_enter, t_leave;
-  if (!input_.clip.clip(ray, t_enter, t_leave, walk.inv_dir)) return Hit{};
+  WalkLine line;
+  if (!start_walk(input_.clip, ray, line)) return Hit{};
   for (int a = 0; a < 3; ++a) {
-    walk.origin[a] = ray.origin[a], walk.dir[a] = ray.dir[a];
+    walk.origin[a] = line.origin[a], walk.dir[a] = line.dir[a], walk.inv_dir[a] = line.inv_dir[a];
     walk.step[a] = step_of(ray.dir[a]);
   }
-  const double slack = walk_slack(ray, input_.clip.magnitude, walk.inv_dir);
+  walk.line = &line;
   walk.ray_id = context.mailbox.next_ray();
   for (uint32_t a = 0; a < 3; ++a) {  // the box's states: the scene box on each axis
     Context::StateValues& box = context.state(a);
@@ -109,25 +111,24 @@ Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
     box.t_next = walk.step[a] == 0 ? kInf : (exit_wall - walk.origin[a]) * walk.inv_dir[a];
     walk.active[a] = kNone, walk.active_state[a] = a, walk.t_next[a] = box.t_next;
   }
-  const PreparedRay<KernelReal> prepared(ray, t_enter, walk.inv_dir);
-  const RayBoxes boxes(ray);
+  const PreparedRay<KernelReal> prepared(ray, line.shift, line.inv_dir);
+  // Content boxes are tested on the ray's own line, in its own t, from its entry into the
+  // scene box on (a cell ahead is entered later anyway); not at all from far away.
+  const RayBoxes boxes(ray, !line.far);
   walk.prepared = &prepared;
   walk.boxes = &boxes;
   walk.tmax = ray.tmax;
   walk.best = Hit{};
-  // Change only with tmax: computed per hit rather than per step. Content boxes are tested
-  // from the ray's entry into the scene box on: a cell ahead is entered later anyway.
-  walk.stop = stop_distance(walk.tmax, slack);
-  walk.t_lo = _mm_set1_ps(float_down(t_enter));
-  walk.t_hi = _mm_set1_ps(float_up(walk.stop));
+  set_stop(walk);
+  walk.t_lo = _mm_set1_ps(line.far ? -kInfinityF : float_down(line.shift + line.t0));
   TraceCounters& counters = context.counters;
 
-  Cursor cursor{root_ref_.load(std::memory_order_acquire), t_enter, -1, 0, kNone, 0};
+  Cursor cursor{root_ref_.load(std::memory_order_acquire), line.t0, -1, 0, kNone, 0};
   do {
     if (!enter(cursor, walk, context, recorder)) continue;
     ++counters.traversal_steps;
     if constexpr (Recorder::kRecords)
-      recorder.cell(cursor_voxel(cursor), cursor.t, cursor.entered, cursor.climbed);
+      recorder.cell(cursor_voxel(cursor), line.shift + cursor.t, cursor.entered, cursor.climbed);
     const bool found =
         child_ref::kind(cursor.ref) == child_ref::kLeaf
             ? test_leaf<AnyHit>(leaves_.view(child_ref::payload(cursor.ref)), kernel_, prepared,
@@ -136,12 +137,17 @@ Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
             : search_unbuilt<AnyHit>(child_ref::payload(cursor.ref), walk, context, recorder);
     recorder.searched(walk.best.id);
     if (AnyHit && found) return walk.best;
-    if (found) {
-      walk.stop = stop_distance(walk.tmax, slack);
-      walk.t_hi = _mm_set1_ps(float_up(walk.stop));
-    }
+    if (found) set_stop(walk);
   } while (next_cell(cursor, walk, context));
   return walk.best;
+}
+
+// The stop distance of the nearest hit so far (or of tmax), in the walk's t, and the end of
+// the content boxes' test interval, in the ray's own t. Changes only with tmax: computed per
+// hit rather than per step.
+inline void Grid1D::set_stop(RayWalk& walk) const {
+  walk.stop = walk.line->stop(walk.tmax);
+  walk.t_hi = _mm_set1_ps(walk.line->far ? kInfinityF : float_up(walk.line->shift + walk.stop));
 }
 
 // The voxel of the cell the cursor stands in (for the recorder).

@@ -1,0 +1,196 @@
+// The kernels of every instruction set this CPU has against the scalar kernel, lane by lane
+// and bit for bit, on triangles and rays chosen to reach every branch (misses, hits, hits
+// through shared edges and vertices, edge functions that round to zero and go to wider
+// arithmetic); the content-box test against the exact segment-box intersection; and every
+// structure, with each kernel, against brute force.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "core/geometry/box_test.h"
+#include "core/geometry/clip_box.h"
+#include "core/geometry/leaf.h"
+#include "tests/cases.h"
+#include "tests/test_util.h"
+
+namespace gs {
+namespace {
+
+std::vector<Isa> supported_isas() {
+  std::vector<Isa> isas;
+  for (const Isa isa : {Isa::scalar, Isa::avx2, Isa::avx512})
+    if (isa_supported(isa)) isas.push_back(isa);
+  return isas;
+}
+
+// Triangles around the unit square with shared edges and vertices (a fan and its
+// neighbours), tiny and huge ones, and rays through random points, through the shared
+// vertices and edges, and parallel to triangles.
+struct KernelCase {
+  std::vector<TriangleVerts> triangles;
+  std::vector<Ray> rays;
+};
+
+KernelCase kernel_case(uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  KernelCase c;
+  const glm::vec3 centre(0.0f, 0.0f, 0.0f);
+  for (int k = 0; k < 8; ++k) {  // a fan: every pair shares an edge, all share the centre
+    const float a0 = float(k) * 0.785398f, a1 = float(k + 1) * 0.785398f;
+    c.triangles.push_back({centre,
+                           {std::cos(a0), std::sin(a0), 0.1f * unit(rng)},
+                           {std::cos(a1), std::sin(a1), 0.1f * unit(rng)}});
+  }
+  for (int k = 0; k < 40; ++k) {
+    const glm::vec3 p(unit(rng), unit(rng), unit(rng));
+    const float size = k % 10 == 0 ? 1e-4f : k % 10 == 1 ? 50.0f : 0.5f;
+    c.triangles.push_back({p, p + size * glm::vec3(unit(rng), unit(rng), unit(rng)),
+                           p + size * glm::vec3(unit(rng), unit(rng), unit(rng))});
+  }
+  for (int k = 0; k < 400; ++k) {
+    Ray ray;
+    ray.origin = {3.0f * unit(rng), 3.0f * unit(rng), 3.0f};
+    glm::vec3 target(unit(rng), unit(rng), 0.0f);
+    if (k % 4 == 1) target = centre;                 // through the fan's shared vertex
+    if (k % 4 == 2) target = c.triangles[k % 8].v1;  // through a shared edge's end
+    if (k % 4 == 3) target = 0.5f * (c.triangles[k % 8].v1 + c.triangles[k % 8].v2);
+    ray.dir = target - ray.origin;
+    if (k % 16 == 5) ray.dir.x = 0.0f;  // zero components: the shear's special cases
+    if (k % 16 == 6) ray.dir.y = -0.0f;
+    if (k % 32 == 7) ray.dir = {1.0f, 0.0f, 0.0f}, ray.origin = {-2.0f, 0.0f, 0.05f};
+    if (k % 8 == 4) ray.tmax = 0.9f, ray.tmin = 0.2f;
+    c.rays.push_back(ray);
+  }
+  return c;
+}
+
+TEST(LeafKernels, EveryLaneGivesTheScalarKernelsAnswerBitForBit) {
+  const KernelCase c = kernel_case(7);
+  std::vector<uint32_t> ids(c.triangles.size());
+  for (uint32_t i = 0; i < ids.size(); ++i) ids[i] = i;
+  LeafStore store(uint64_t{1} << 20);
+  const LeafView leaf = store.view(store.add(ids, c.triangles));
+  uint64_t lanes_checked = 0, hits = 0;
+  for (const Isa isa : supported_isas()) {
+    const Kernel kernel = kernel_for(isa);
+    for (const Ray& ray : c.rays) {
+      const PreparedRay<KernelReal> prepared(ray, 0.0);
+      for (uint32_t first = 0; first < leaf.count; first += kernel.lanes) {
+        const uint32_t width = std::min(kernel.lanes, leaf.count - first);
+        // Every lane, then every other lane (masked lanes must not be reported).
+        for (const uint32_t lanes : {(1u << width) - 1u, ((1u << width) - 1u) & 0x55u}) {
+          LaneHits out;
+          const uint32_t got = kernel.test(leaf, first, lanes, prepared, ray.tmax, out);
+          EXPECT_EQ(got & ~lanes, 0u) << isa_name(isa);
+          for (uint32_t j = 0; j < width; ++j) {
+            if (!(lanes >> j & 1)) continue;
+            const TriangleVerts& tri = c.triangles[first + j];
+            float t = 0.0f, u = 0.0f, v = 0.0f;
+            const bool expected =
+                intersect_triangle(prepared, tri.v0, tri.v1, tri.v2, ray.tmax, t, u, v);
+            ASSERT_EQ(bool(got >> j & 1), expected) << isa_name(isa) << " triangle " << first + j;
+            ++lanes_checked;
+            if (!expected) continue;
+            ++hits;
+            EXPECT_EQ(std::bit_cast<uint32_t>(out.t[j]), std::bit_cast<uint32_t>(t));
+            EXPECT_EQ(std::bit_cast<uint32_t>(out.u[j]), std::bit_cast<uint32_t>(u));
+            EXPECT_EQ(std::bit_cast<uint32_t>(out.v[j]), std::bit_cast<uint32_t>(v));
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(hits, 200u);
+  RecordProperty("lanes_checked", int(lanes_checked));
+}
+
+// The exact answer: does the segment [t0, t1] of the ray meet the closed box? In long
+// double, with the zero-direction rule of ClipBox::clip.
+bool segment_meets_box(const Ray& ray, const float box[6], double t0, double t1) {
+  long double lo = t0, hi = t1;
+  for (int a = 0; a < 3; ++a) {
+    const long double o = ray.origin[a], d = ray.dir[a];
+    if (d == 0) {
+      if (o < box[a] || o > box[a + 3]) return false;
+      continue;
+    }
+    long double ta = (box[a] - o) / d, tb = (box[a + 3] - o) / d;
+    if (ta > tb) std::swap(ta, tb);
+    lo = std::max(lo, ta), hi = std::min(hi, tb);
+  }
+  return lo <= hi;
+}
+
+// Never a miss for a crossing, however close to a face or corner the ray passes, wherever
+// it starts (before, inside, beyond the box; at negative t), with zero and -0 components.
+TEST(BoxTest, NeverReportsAMissForACrossing) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  uint64_t crossings = 0, boxes_tested = 0;
+  for (int k = 0; k < 20000; ++k) {
+    float box[6];
+    const float scale = k % 3 == 0 ? 1e-3f : k % 3 == 1 ? 1.0f : 1e4f;
+    for (int a = 0; a < 3; ++a) {
+      const float x = scale * unit(rng), y = scale * unit(rng);
+      box[a] = std::min(x, y), box[a + 3] = k % 17 == 0 ? std::min(x, y) : std::max(x, y);
+    }
+    Ray ray;
+    // Aimed at a face's or an edge's point, so that many rays just graze the box.
+    glm::vec3 target;
+    for (int a = 0; a < 3; ++a) target[a] = (k >> a & 1) ? box[a] : box[a + 3];
+    target[k % 3] = box[k % 3] + (box[k % 3 + 3] - box[k % 3]) * (0.5f + 0.5f * unit(rng));
+    ray.origin = target + scale * 3.0f * glm::vec3(unit(rng), unit(rng), unit(rng));
+    ray.dir = target - ray.origin;
+    if (k % 11 == 0) ray.dir[k % 3] = 0.0f, ray.origin[k % 3] = target[k % 3];
+    if (k % 13 == 0) ray.dir[(k + 1) % 3] = -0.0f;
+    if (ray.dir == glm::vec3(0.0f)) continue;
+    const double t0 = k % 5 == 0 ? -2.0 : 0.0, t1 = k % 7 == 0 ? 0.999999 : 1e30;
+    const RayBoxes test(ray);
+    float soa[box_floats(4)] = {};
+    for (int f = 0; f < 6; ++f) soa[f * 4] = box[f];
+    const bool crossed =
+        test.crossed4(soa, 4, 0, _mm_set1_ps(float_down(t0)), _mm_set1_ps(float_up(t1))) & 1u;
+    ++boxes_tested;
+    if (!segment_meets_box(ray, box, t0, t1)) continue;
+    ++crossings;
+    ASSERT_TRUE(crossed) << "box " << k;
+  }
+  EXPECT_GT(crossings, boxes_tested / 4);
+}
+
+// Every structure, with every kernel this CPU has, answers exactly what brute answers:
+// nearest hits bit for bit, lazy and eager, 1 and 2 threads.
+class EveryKernel : public testing::TestWithParam<Isa> {};
+
+TEST_P(EveryKernel, EveryStructureMatchesBrute) {
+  const Isa before = kernel_isa();
+  force_kernel_isa(GetParam());
+  const Scene scene = test::sphere_in_soup();
+  test::RayMix mix;
+  mix.camera_width = mix.camera_height = 24;
+  mix.chords = mix.axis_parallel = mix.edges_and_vertices = 600;
+  const std::vector<Ray> rays = test::mixed_rays(scene, mix);
+  const std::vector<Hit> expected = test::brute_answers(scene, rays);
+  size_t hits = 0;
+  for (const Hit& hit : expected) hits += hit.found();
+  EXPECT_GT(hits, rays.size() / 4);
+  for (const std::string name : {"grid1d", "uniform", "octree", "grid3d", "bvh"}) {
+    std::vector<test::StructureRun> runs = test::lazy_and_eager_runs(name);
+    for (test::StructureRun run : test::lazy_and_eager_runs(name)) {
+      run.sample = true;
+      runs.push_back(run);
+    }
+    EXPECT_EQ(test::disagreements(scene, rays, runs, expected), 0u)
+        << name << " " << isa_name(GetParam());
+  }
+  force_kernel_isa(before);
+}
+
+INSTANTIATE_TEST_SUITE_P(Isas, EveryKernel, testing::ValuesIn(supported_isas()),
+                         [](const auto& info) { return std::string(isa_name(info.param)); });
+
+}  // namespace
+}  // namespace gs
