@@ -25,7 +25,7 @@ std::array<int, 2> walk_pixel(const ShotJob& job) {
   return {job.settings.width / 2, job.settings.height / 2};
 }
 
-// Usage errors before any file is read (DESIGN.md §3: usage first).
+// Usage errors before any file is read (docs/design.md §3: usage first).
 void check_usage(const ShotJob& job, const Accelerator& accel) {
   check_render_settings(job.settings);
   if (job.overlays.needs_grid() && !accel.grid1d())

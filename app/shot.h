@@ -1,4 +1,4 @@
-// The `shot` command (DESIGN.md §3): the viewer's frame, headless through OSMesa. Renders
+// The `shot` command (docs/design.md §3): the viewer's frame, headless through OSMesa. Renders
 // the image on the CPU as `render` does, adds the chosen overlays, draws the frame (and, if
 // asked, the statistics panel) with OpenGL and writes it as a PNG.
 #pragma once

@@ -408,7 +408,7 @@ class BenchRun {
 
   double elapsed() const { return seconds_since(start_); }
 
-  // The paper's section 6.2 constants measured on this machine (core/calibrate.h).
+  // The paper's section 6.2 constants measured on this machine (bench/calibrate.h).
   void calibrate_constants() {
     if (std::find(accels_.begin(), accels_.end(), "grid1d") == accels_.end()) return;
     CalibrateOptions calibrate_options;

@@ -743,8 +743,8 @@ std::string not_run_section(const json& records) {
   for (const char* role : kPaperScenes)
     if (!roles.contains(role))
       lines.push_back(std::string("- the paper's ") + role +
-                      " scene: no scene stands for it (not asked for, or its mesh under "
-                      "../shared/scenes is missing)");
+                      " scene: no scene stands for it (not asked for, or its mesh is not in "
+                      "assets/: scripts/fetch-assets.sh)");
   for (const auto& [workload, what] :
        {std::pair{"diffuse", "diffuse rays"}, std::pair{"sweep", "parameter sweeps"},
         std::pair{"convergence", "convergence (RMSE against time)"}})

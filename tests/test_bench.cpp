@@ -1,4 +1,4 @@
-// The benchmark driver (core/bench.h): the records it writes hold the protocol's figures,
+// The benchmark driver (bench/bench.h): the records it writes hold the protocol's figures,
 // and those figures agree with answers computed independently here.
 #include <gtest/gtest.h>
 

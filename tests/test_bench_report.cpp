@@ -1,4 +1,4 @@
-// The benchmark's report.md and PNG plots (issue 4), from hand-made records whose figures
+// The benchmark's report.md and PNG plots, from hand-made records whose figures
 // are chosen so that every table cell, verdict and bar height can be worked out by hand.
 #include <gtest/gtest.h>
 

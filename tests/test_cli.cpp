@@ -1,4 +1,4 @@
-// Drives the built `gridscope` binary the way scripts and outside checkers do (DESIGN.md §3):
+// Drives the built `gridscope` binary the way scripts and outside checkers do (docs/design.md §3):
 // exit statuses, one-line error messages, and file outputs checked against answers worked
 // out by hand.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Resource limits and degenerate input (issue 5): scene file size and counts, structure
+// Resource limits and degenerate input: scene file size and counts, structure
 // parameter ranges, the memory budget of every structure, and builds that end with bounded
 // depth on input that defeats the cost models. Every answer is compared with brute force;
 // the limits are tested through their check functions with small injected values, never

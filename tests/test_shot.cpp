@@ -1,4 +1,4 @@
-// `gridscope shot` (DESIGN.md §3) driven as a user would, checked by its pixels: without
+// `gridscope shot` (docs/design.md §3) driven as a user would, checked by its pixels: without
 // overlays it is `render`'s image exactly; each overlay changes the pixels where what it
 // draws projects and leaves the others alone; bad input gives the promised exit status.
 #include <gtest/gtest.h>

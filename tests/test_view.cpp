@@ -1,7 +1,7 @@
-// `gridscope view` (DESIGN.md §3) driven by its script flags under Xvfb, as CI would: it
+// `gridscope view` (docs/design.md §3) driven by its script flags under Xvfb, as CI would: it
 // exits by itself, the screenshot is the window, and the walk a scripted click records is
 // the one `trace --walk` records for the same pixel's ray (same sampling pass, same cuts).
-// Scripted abuse (issue 5): no display, no GL 3.3 context, minimising and restoring, a bad
+// Scripted abuse: no display, no GL 3.3 context, minimising and restoring, a bad
 // file opened from the UI, parameters changed and the window closed during a build; the
 // viewport shown at the end is compared with `render` of the view --stats reports.
 // Skips with a message when xvfb-run is not installed.

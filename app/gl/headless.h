@@ -10,7 +10,7 @@ class HeadlessContext {
  public:
   // A width x height RGBA8 framebuffer with a 24-bit depth buffer, made current and with
   // glad loaded through OSMesaGetProcAddress. Throws InputError("OSMesa: could not create
-  // an OpenGL 3.3 context") when Mesa cannot give one (exit status 1, DESIGN.md §3).
+  // an OpenGL 3.3 context") when Mesa cannot give one (exit status 1, docs/design.md §3).
   HeadlessContext(int width, int height);
   ~HeadlessContext();
   HeadlessContext(const HeadlessContext&) = delete;

@@ -1,6 +1,6 @@
 // Draws Dear ImGui's draw data with OpenGL 3.3 core through glad. Debian's imgui 1.86
 // OpenGL3 backend finds GL through libGL/GLX by itself and cannot draw under OSMesa
-// (DESIGN.md §4), so headless shots and the window both use this one renderer and draw the
+// (docs/design.md §4), so headless shots and the window both use this one renderer and draw the
 // panels the same way.
 #pragma once
 #include <memory>

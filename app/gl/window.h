@@ -1,5 +1,5 @@
 // The viewer's window: GLFW with an OpenGL 3.3 core context, glad loaded through
-// glfwGetProcAddress (DESIGN.md §4), and Dear ImGui's GLFW platform backend for input. The
+// glfwGetProcAddress (docs/design.md §4), and Dear ImGui's GLFW platform backend for input. The
 // UI is drawn by our own ImGuiRenderer, never by Debian's OpenGL3 backend, so that the
 // window and headless shots draw panels the same way.
 #pragma once

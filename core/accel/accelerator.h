@@ -1,4 +1,4 @@
-// The one surface every acceleration structure has (DESIGN.md §2): build, bounds,
+// The one surface every acceleration structure has (docs/design.md §2): build, bounds,
 // intersect, occluded, stats; made by name from one factory. Dispatch is once per ray; the
 // inner loops behind intersect/occluded are non-virtual.
 #pragma once

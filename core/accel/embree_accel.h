@@ -1,4 +1,4 @@
-// Intel Embree 3 as a reference structure (DESIGN.md §3 `embree`; compiled only when CMake
+// Intel Embree 3 as a reference structure (docs/design.md §3 `embree`; compiled only when CMake
 // finds embree 3, which defines GRIDSCOPE_HAVE_EMBREE). One triangle geometry holds the
 // scene's triangles in id order, so Embree's primID is our triangle id; degenerate
 // triangles keep their slot with all three corners on their first vertex, which Embree

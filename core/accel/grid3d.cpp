@@ -175,7 +175,7 @@ bool NestedGrid::test_cell(const Cell& cell, RayWalk& w, MailboxContext& context
                            context.mailbox, context.counters);
 }
 
-// The lazy build of one cell (DESIGN.md §1 "Laziness"): the thread that wins the CAS
+// The lazy build of one cell (docs/design.md §1.7): the thread that wins the CAS
 // builds the sub-grid and publishes it with a release store; others meanwhile search the
 // cell as the leaf it still is, so nobody waits.
 uint8_t NestedGrid::examine(uint32_t cell_id, MailboxContext& context) const {

@@ -5,7 +5,7 @@
 // uniform grid of about cbrt(n) cells per side (at least 2 on its longest side), and so
 // on, up to `max_depth` levels (default 3: the root grid and two levels of sub-grids; the
 // paper's "usually 2-3"). Sub-grids are built lazily, when a ray first walks into their
-// cell, with the same publication scheme as grid1d (DESIGN.md §1 "Laziness").
+// cell, with the same publication scheme as grid1d (docs/design.md §1.7).
 //
 // Traversal: a 3D DDA per level (Cleary et al. 1983, Amanatides & Woo 1987); a ray
 // entering a subdivided cell starts that cell's DDA at its current point and, when it

@@ -105,7 +105,7 @@ uint32_t Octree::make_leaf(int depth, const uint32_t lo[3], const std::vector<ui
 // closed boxes (a triangle touching the mid-plane goes into both halves). False, leaving a
 // leaf, when the cut separates nothing: one child keeps every triangle while each sits in
 // two children or more on average (coincident or nearly coincident triangles straddling
-// the cut, DESIGN.md §1; cutting again only copies them). A child keeping everything with
+// the cut, docs/design.md §1; cutting again only copies them). A child keeping everything with
 // little straddling (a cluster inside one octant) is cut. False too when the nodes and
 // references planned so far (every open list counted as the leaf it may yet become) plus
 // this cut's would exceed the memory budget: the finished tree then stays within it.

@@ -49,6 +49,7 @@ class Octree final : public Accelerator {
     uint32_t count;  // kInternal for an internal node
   };
   static constexpr uint32_t kInternal = UINT32_MAX;
+  static_assert(sizeof(Node) == 8);
 
   // Read access for tests.
   const std::vector<Node>& nodes() const { return nodes_; }

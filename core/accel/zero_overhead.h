@@ -1,4 +1,4 @@
-// The paper's zero-overhead method (Jevans 1990 §7, DESIGN.md §1): given the hit file of an
+// The paper's zero-overhead method (Jevans 1990 §7, docs/design.md §1): given the hit file of an
 // earlier run over the same rays, each ray is tested against exactly the one triangle it
 // hit (a miss tests nothing). No acceleration structure can do less work, so its time is
 // the floor the others are measured against.

@@ -1,4 +1,4 @@
-// Errors that reach the user as one line and an exit status (DESIGN.md §3).
+// Errors that reach the user as one line and an exit status (docs/design.md §3).
 #pragma once
 #include <stdexcept>
 #include <string>

@@ -1,6 +1,6 @@
 // An array whose elements never move: address space for the largest size it may reach is
 // reserved once (virtual memory, committed page by page as it is touched), so threads can
-// read elements while another thread appends (DESIGN.md §1 "Laziness": storage that grows
+// read elements while another thread appends (docs/design.md §1.7: storage that grows
 // while other threads read it must not move). std::vector reallocates; std::deque's index
 // arithmetic costs an indirection on every read of the hot traversal arrays; hence our own.
 #pragma once

@@ -3,7 +3,7 @@
 // core/geometry/clip_box.h) the ray meets, and steps straight to them. Four float lanes
 // (SSE2, on every x86-64, inlined into the walk), with the exits widened by the bound of
 // Ize, "Robust BVH Ray Traversal" (JCGT 2(2), 2013), so that rounding never reports a miss
-// for a box the ray crosses (docs/design.md §6.5).
+// for a box the ray crosses (docs/design.md §6.7).
 #pragma once
 #include <emmintrin.h>
 

@@ -125,7 +125,7 @@ template <class Real>
   return intersect_triangle(ray, &p0.x, &p1.x, &p2.x, 1, tmax, t, u, v);
 }
 
-// Keeps `best` the nearest hit, lowest id among equal t (DESIGN.md §3).
+// Keeps `best` the nearest hit, lowest id among equal t (docs/design.md §3).
 inline bool closer(float t, int32_t id, const Hit& best) {
   return t < best.t || (t == best.t && id < best.id);
 }

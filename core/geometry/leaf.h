@@ -2,7 +2,7 @@
 // the one leaf-test loop every structure uses: mailbox, kernel, nearest-hit rule, counters.
 // The kernel tests several triangles at once where the CPU allows (core/geometry/simd.h):
 // every lane computes exactly the scalar kernel's operations in the same order, so the
-// answers are the scalar kernel's bit for bit (docs/design.md §6.4).
+// answers are the scalar kernel's bit for bit (docs/design.md §6.6).
 #pragma once
 #include <bit>
 #include <cstdint>
@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/accel/accelerator.h"
+#include "core/base/check.h"
 #include "core/base/stable_array.h"
 #include "core/geometry/kernel.h"
 #include "core/geometry/mailbox.h"
@@ -48,6 +49,7 @@ class LeafStore {
   static constexpr uint32_t kFull = UINT32_MAX;
   uint32_t add(const std::vector<uint32_t>& ids, const std::vector<TriangleVerts>& triangles);
   LeafView view(uint32_t handle) const {
+    GRIDSCOPE_CHECK(size_t(handle) < ids_.size());
     return {&coords_[9 * (size_t(handle) + 1)], &ids_[size_t(handle) + 1], ids_[handle]};
   }
   // Bytes one leaf of n triangles takes.
@@ -102,7 +104,7 @@ struct NoLeafRecord {
 };
 
 // Tests the leaf's triangles this ray has not tested yet, keeping `best` the nearest hit
-// (lowest id among equal t; docs/design.md §6.3) and `tmax` its t. Returns true when one of
+// (lowest id among equal t; docs/design.md §6.4) and `tmax` its t. Returns true when one of
 // them became the nearest hit (AnyHit: when one blocks the ray, which ends the search).
 template <bool AnyHit, class Record = NoLeafRecord>
 inline bool test_leaf(const LeafView& leaf, const Kernel& kernel,
@@ -125,6 +127,7 @@ inline bool test_leaf(const LeafView& leaf, const Kernel& kernel,
     if (lanes == 0) continue;
     counters.intersection_tests += tested;
     record.tested(tested);
+    GRIDSCOPE_CHECK(kernel.lanes <= kMaxLanes);
     LaneHits out;
     for (uint32_t hits = kernel.test(leaf, first, lanes, ray, tmax, out); hits != 0;
          hits &= hits - 1) {

@@ -1,6 +1,6 @@
 // The leaf kernel on 4 double lanes (AVX2). Each lane performs the scalar kernel's
 // operations (core/geometry/kernel.h) in the same order, without fused multiply-adds, so its
-// t, u and v are the scalar kernel's bit for bit (docs/design.md §6.4). Compiled for AVX2 by
+// t, u and v are the scalar kernel's bit for bit (docs/design.md §6.6). Compiled for AVX2 by
 // the pragma below, after every include, so that no inline function shared with other files
 // is compiled for it; called only when the CPU has AVX2.
 #include <immintrin.h>
@@ -16,6 +16,16 @@ namespace {
 // One coordinate of the lanes' triangles as doubles; masked-off lanes read nothing.
 inline __m256d coordinate(const float* array, __m128i mask) {
   return _mm256_cvtps_pd(_mm_maskload_ps(array, mask));
+}
+
+// The lanes where `Predicate` holds between some edge function and zero (a template
+// argument: the compare takes an immediate).
+template <int Predicate>
+inline uint32_t any_edge(__m256d e0, __m256d e1, __m256d e2) {
+  const __m256d zero = _mm256_setzero_pd();
+  return uint32_t(_mm256_movemask_pd(_mm256_or_pd(
+      _mm256_or_pd(_mm256_cmp_pd(e0, zero, Predicate), _mm256_cmp_pd(e1, zero, Predicate)),
+      _mm256_cmp_pd(e2, zero, Predicate))));
 }
 
 }  // namespace
@@ -45,14 +55,11 @@ uint32_t test_lanes_avx2(const LeafView& leaf, uint32_t first, uint32_t lanes,
   const __m256d e2 = _mm256_sub_pd(_mm256_mul_pd(bx, ay), _mm256_mul_pd(by, ax));
 
   const __m256d zero = _mm256_setzero_pd();
-  const auto any = [&](int predicate) {
-    return uint32_t(_mm256_movemask_pd(_mm256_or_pd(
-        _mm256_or_pd(_mm256_cmp_pd(e0, zero, predicate), _mm256_cmp_pd(e1, zero, predicate)),
-        _mm256_cmp_pd(e2, zero, predicate))));
-  };
+
   // An edge function of exactly zero is redone in wider arithmetic: the scalar kernel's.
-  const uint32_t wide = any(_CMP_EQ_OQ) & lanes;
-  const uint32_t inside = ~(any(_CMP_LT_OQ) & any(_CMP_GT_OQ)) & lanes & ~wide;
+  const uint32_t wide = any_edge<_CMP_EQ_OQ>(e0, e1, e2) & lanes;
+  const uint32_t inside =
+      ~(any_edge<_CMP_LT_OQ>(e0, e1, e2) & any_edge<_CMP_GT_OQ>(e0, e1, e2)) & lanes & ~wide;
   const __m256d det = _mm256_add_pd(_mm256_add_pd(e0, e1), e2);
   const uint32_t nonzero = uint32_t(_mm256_movemask_pd(_mm256_cmp_pd(det, zero, _CMP_NEQ_UQ)));
   const __m256d scaled = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(e0, _mm256_mul_pd(sz, az)),

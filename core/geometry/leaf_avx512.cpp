@@ -12,6 +12,16 @@
 namespace gs {
 namespace {
 
+// The lanes where `Predicate` holds between some edge function and zero (a template
+// argument: the compare takes an immediate).
+template <int Predicate>
+inline uint32_t any_edge(__m512d e0, __m512d e1, __m512d e2) {
+  const __m512d zero = _mm512_setzero_pd();
+  return uint32_t(_mm512_cmp_pd_mask(e0, zero, Predicate) |
+                  _mm512_cmp_pd_mask(e1, zero, Predicate) |
+                  _mm512_cmp_pd_mask(e2, zero, Predicate));
+}
+
 // All eight lanes to float. (The zero-masked form: GCC 12's plain _mm512_cvtpd_ps warns
 // about its own undefined source operand.)
 inline __m256 to_float(__m512d x) { return _mm512_maskz_cvtpd_ps(0xFF, x); }
@@ -43,14 +53,10 @@ uint32_t test_lanes_avx512(const LeafView& leaf, uint32_t first, uint32_t lanes,
   const __m512d e2 = _mm512_sub_pd(_mm512_mul_pd(bx, ay), _mm512_mul_pd(by, ax));
 
   const __m512d zero = _mm512_setzero_pd();
-  const auto any = [&](int predicate) {
-    return uint32_t(_mm512_cmp_pd_mask(e0, zero, predicate) |
-                    _mm512_cmp_pd_mask(e1, zero, predicate) |
-                    _mm512_cmp_pd_mask(e2, zero, predicate));
-  };
   // An edge function of exactly zero is redone in wider arithmetic: the scalar kernel's.
-  const uint32_t wide = any(_CMP_EQ_OQ) & lanes;
-  const uint32_t inside = ~(any(_CMP_LT_OQ) & any(_CMP_GT_OQ)) & lanes & ~wide;
+  const uint32_t wide = any_edge<_CMP_EQ_OQ>(e0, e1, e2) & lanes;
+  const uint32_t inside =
+      ~(any_edge<_CMP_LT_OQ>(e0, e1, e2) & any_edge<_CMP_GT_OQ>(e0, e1, e2)) & lanes & ~wide;
   const __m512d det = _mm512_add_pd(_mm512_add_pd(e0, e1), e2);
   const uint32_t nonzero = _mm512_cmp_pd_mask(det, zero, _CMP_NEQ_UQ);
   const __m512d scaled = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(e0, _mm512_mul_pd(sz, az)),

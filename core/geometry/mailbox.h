@@ -16,6 +16,7 @@ class Mailbox {
   // triangles have nearby ids, so they fall in different slots; more slots were measured
   // to change nothing.
   static constexpr size_t kSlots = 512;
+  static_assert((kSlots & (kSlots - 1)) == 0, "slots are picked by masking the id");
 
   uint64_t next_ray() { return ++ray_id_; }
   uint64_t current_ray() const { return ray_id_; }

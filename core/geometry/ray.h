@@ -1,4 +1,4 @@
-// Rays and hits exactly as the ray and hit files store them (DESIGN.md §3).
+// Rays and hits exactly as the ray and hit files store them (docs/design.md §3).
 #pragma once
 #include <cstdint>
 #include <glm/vec3.hpp>

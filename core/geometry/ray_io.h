@@ -1,4 +1,4 @@
-// Ray and hit files (DESIGN.md §3): flat arrays of little-endian records, no header.
+// Ray and hit files (docs/design.md §3): flat arrays of little-endian records, no header.
 // Ray: 32 bytes, float32 ox oy oz tmin dx dy dz tmax. Hit: 16 bytes, int32 id, float32 t u v.
 #pragma once
 #include <span>

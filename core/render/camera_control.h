@@ -1,4 +1,4 @@
-// Camera motions of the viewer (issue 3), as pure functions of a camera: orbit around a
+// Camera motions of the viewer, as pure functions of a camera: orbit around a
 // pivot, pan, dolly, fly; the viewer maps mouse and keys to them.
 #pragma once
 #include <glm/vec3.hpp>

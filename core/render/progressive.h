@@ -1,10 +1,10 @@
-// The viewer's progressive CPU renderer (issue 3): on worker threads, never on the UI
+// The viewer's progressive CPU renderer: on worker threads, never on the UI
 // thread, it renders a view in passes: a coarse pass (one ray per 8x8 block, shown as
 // blocks), then full resolution at pixel centres (the same image `gridscope render --spp 1`
 // gives), then jittered samples accumulated one per pixel per pass (antialiasing, soft
 // shadows). Any change of view, scene, structure or parameters restarts it; the UI thread
 // only takes finished frames. SceneLoader reads scene files on a worker thread for the same
-// reason: the UI never waits for a file (issue 5).
+// reason: the UI never waits for a file.
 #pragma once
 #include <atomic>
 #include <condition_variable>

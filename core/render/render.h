@@ -70,7 +70,7 @@ struct RenderOutcome {
   TraceCounters counters;
 };
 
-// The paper's sampling pass for an image (DESIGN.md §1 "Cost function"): the primary ray of
+// The paper's sampling pass for an image (docs/design.md §1.5): the primary ray of
 // one pixel in every 8x8 block, standing for all width * height * spp primary rays.
 void sample_image(Accelerator& accel, const Camera& camera, const RenderSettings& settings);
 
@@ -105,7 +105,7 @@ RenderOutcome render_image(const Scene& scene, const Accelerator& accel, const C
 // time per thread; it may block (to pause the pass between rows).
 using RowRunner = std::function<void(const std::function<void()>& row)>;
 
-// One pass of the viewer's progressive renderer (core/progressive.h), by render_image's own
+// One pass of the viewer's progressive renderer (core/render/progressive.h), by render_image's own
 // shading, rows spread over settings.threads threads.
 // - stride 1: samples [first_sample, settings.spp) of every pixel, the samples render_image
 //   takes for settings.spp (pixel centres for spp 1, its fixed jitter otherwise). `sums`

@@ -1,4 +1,4 @@
-// A pinhole camera and its one string form (DESIGN.md §3: `--camera` takes and prints it):
+// A pinhole camera and its one string form (docs/design.md §3: `--camera` takes and prints it):
 //   eye=X,Y,Z;target=X,Y,Z;up=X,Y,Z;fov=DEG
 // fov is the vertical field of view in degrees. Pixel (0,0) is the top-left of the image.
 #pragma once

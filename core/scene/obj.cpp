@@ -1,4 +1,4 @@
-// Wavefront OBJ loading through tinyobjloader, without its triangulation (DESIGN.md §3).
+// Wavefront OBJ loading through tinyobjloader, without its triangulation (docs/design.md §3).
 //
 // tinyobjloader is lenient where we must be strict: it reads indices with atoi (an index
 // too large for int silently becomes another vertex), turns an unparsable coordinate into

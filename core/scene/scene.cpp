@@ -1,5 +1,5 @@
 // Scene basics shared by every loader: boxes, degeneracy, dispatch by SCENE spec, whole-file
-// reading (with gzip), validation, OBJ export and polygon triangulation (DESIGN.md §3).
+// reading (with gzip), validation, OBJ export and polygon triangulation (docs/design.md §3).
 #include "core/scene/scene.h"
 
 #include <zlib.h>

@@ -1,4 +1,4 @@
-// A scene is a triangle soup in triangle-id order (DESIGN.md §3: faces in file order, an
+// A scene is a triangle soup in triangle-id order (docs/design.md §3: faces in file order, an
 // n-gon split into n-2 consecutive ids). Loaders and built-in generators produce it; every
 // accelerator consumes it.
 #pragma once
@@ -75,7 +75,7 @@ std::vector<ScenePart> builtin_scene_parts(const std::string& name);
 // triangle, 12 a vertex); a structure holds per triangle its corners (36 bytes), a padded
 // box while building (48) and references: about 100 bytes a triangle in all, so 2^28
 // triangles already take ~27 GB. 2^28 is also about what a 2 GiB binary PLY can describe
-// (13 bytes a face), 300 times the largest scene in ../shared (the dragon, 871k
+// (13 bytes a face), 300 times the largest scene the bench uses (the dragon, 871k
 // triangles), and keeps triangle ids and reference counts well inside 32 bits.
 inline constexpr uint64_t kMaxSceneFileBytes = uint64_t{2} << 30;  // on disk
 inline constexpr uint64_t kMaxSceneDataBytes = uint64_t{4} << 30;  // inflated from gzip

@@ -4,7 +4,7 @@
 
 namespace gs {
 
-// A regular subset of the run's rays (DESIGN.md §1 "Cost function"): indices 0, k, 2k, ...
+// A regular subset of the run's rays (docs/design.md §1.5): indices 0, k, 2k, ...
 std::vector<Ray> sample_subset(const std::vector<Ray>& rays, int every) {
   std::vector<Ray> subset;
   subset.reserve(rays.size() / size_t(every) + 1);

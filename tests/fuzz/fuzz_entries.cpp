@@ -55,7 +55,7 @@ std::string write_scratch(const std::string& name, std::span<const uint8_t> data
   return path;
 }
 
-// Anything but the documented errors escaping an entry breaks DESIGN.md §3's promise (main
+// Anything but the documented errors escaping an entry breaks docs/design.md §3.10's promise (main
 // would report "error: ..."); a std::bad_alloc on inputs this small means a count read from
 // the input was trusted.
 template <class Body>
@@ -77,7 +77,7 @@ void expect_names_file(const InputError& e, const std::string& path, Outcome& ou
                                std::string(message));
 }
 
-// What load_scene promises of a scene it returns (core/scene.h).
+// What load_scene promises of a scene it returns (core/scene/scene.h).
 void check_scene(const Scene& scene, Outcome& outcome) {
   if (scene.triangles.empty()) outcome.problems.push_back("a scene with no triangles loaded");
   for (const glm::uvec3& triangle : scene.triangles) {

@@ -1,5 +1,5 @@
 // The bodies of the fuzz targets. Each entry takes arbitrary bytes, feeds them to one part of
-// gridscope and checks DESIGN.md §3's promise on them: bad input is an InputError or a
+// gridscope and checks docs/design.md §3.10's promise on them: bad input is an InputError or a
 // UsageError naming what is wrong, never a crash, a hang or a silent wrong answer. The
 // libFuzzer executables (fuzz_target.cpp) and the GoogleTest replay of the corpora and of
 // every finding kept as a regression (tests/test_fuzz_regressions.cpp) call the same entry,

@@ -7,11 +7,11 @@
 //
 // Two kinds of records (docs/design.md §1.9): what the build and the inspector need about a
 // voxel (Voxel, Region: its triangles, place, sample), and what the walk reads (Node: one
-// per subdivided voxel, 32 bytes; a child reference per cell that carries the child's kind,
-// so that an empty or unbuilt cell costs no load; an occupancy mask per node, so that a run
-// of empty cells is crossed with one bit scan; each leaf's triangles stored once in the
-// kernel's structure-of-arrays form, core/geometry/leaf.h). Build and walk are in build.cpp
-// and walk.cpp.
+// per subdivided voxel, one cache line; a child reference per cell that carries the child's
+// kind, so that an empty or unbuilt cell costs no load; per cell a content box, so that the
+// walk steps only into cells whose contents the ray meets, docs/design.md §1.3; each leaf's
+// triangles stored once in the kernel's structure-of-arrays form, core/geometry/leaf.h).
+// Build and walk are in build.cpp and walk.cpp.
 #pragma once
 #include <array>
 #include <atomic>

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/accel/grid1d/grid1d.h"
+#include "core/base/check.h"
 #include "core/geometry/box_test.h"
 
 namespace gs {
@@ -50,7 +51,10 @@ constexpr uint32_t kPayload = (1u << 30) - 1;
 constexpr uint32_t kMaxPayload = kPayload;
 inline Kind kind(uint32_t ref) { return Kind(ref & ~kPayload); }
 inline uint32_t payload(uint32_t ref) { return ref & kPayload; }
-inline uint32_t make(Kind kind, uint32_t payload) { return uint32_t(kind) | payload; }
+inline uint32_t make(Kind kind, uint32_t payload) {
+  GRIDSCOPE_CHECK(payload <= kMaxPayload);
+  return uint32_t(kind) | payload;
+}
 }  // namespace child_ref
 
 // A ray of the sampling pass: its segment [t0, t1] inside the scene box; t1 shrinks to

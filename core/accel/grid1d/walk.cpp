@@ -12,6 +12,7 @@
 #include <limits>
 
 #include "core/accel/grid1d/records.h"
+#include "core/base/check.h"
 
 namespace gs {
 namespace {
@@ -210,6 +211,7 @@ bool Grid1D::next_cell(Cursor& cursor, RayWalk& walk, Context& context) const {
     for (;; id = nodes_[id].above[s], ++cursor.climbed) {
       if (id == kNone) return false;  // left the scene
       const Node& up = nodes_[id];
+      GRIDSCOPE_CHECK(context.states[up.state].stamp == walk.ray_id);
       from = context.states[up.state].index + walk.step[s] - up.first_cell;
       if (uint64_t(from) < up.granularity) break;
     }
@@ -290,6 +292,7 @@ inline void Grid1D::activate(int a, uint32_t node, uint32_t state, RayWalk& walk
     cell = from;
   }
   if (cell >= 0) {
+    GRIDSCOPE_CHECK(cell < g);
     if (cell == from && from_is_current) return cell;
     const double t_in = entry(cell);
     if (t_in <= limit) {
@@ -346,6 +349,7 @@ template <class Recorder>
     values.index = first + local;
     values.t_next = walk.step[b] == 0 ? kInf : values.exit_distance(values.index, walk.step[b]);
   }
+  GRIDSCOPE_CHECK(local >= 0 && local < g);
   activate(int(b), id, node.state, walk);
   walk.t_next[b] = values.t_next;
   ++context.counters.descents;
