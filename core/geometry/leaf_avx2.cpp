@@ -7,8 +7,12 @@
 
 #include "core/geometry/simd.h"
 
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx2"))), apply_to = function)
+#else
 #pragma GCC push_options
 #pragma GCC target("avx2")
+#endif
 
 namespace gs {
 namespace {
@@ -82,4 +86,8 @@ uint32_t test_lanes_avx2(const LeafView& leaf, uint32_t first, uint32_t lanes,
 
 }  // namespace gs
 
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
 #pragma GCC pop_options
+#endif

@@ -6,8 +6,12 @@
 
 #include "core/geometry/simd.h"
 
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx512f,avx512vl,avx512dq"))), apply_to = function)
+#else
 #pragma GCC push_options
 #pragma GCC target("avx512f,avx512vl,avx512dq")
+#endif
 
 namespace gs {
 namespace {
@@ -77,4 +81,8 @@ uint32_t test_lanes_avx512(const LeafView& leaf, uint32_t first, uint32_t lanes,
 
 }  // namespace gs
 
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
 #pragma GCC pop_options
+#endif
