@@ -136,6 +136,10 @@ Parser trace_parser() {
                 "the rays are a WxH image's primary rays (as `rays` writes them): the sampling "
                 "pass takes the image's pixels as render does",
                 job->sample_image_width, job->sample_image_height),
+      {"--camera", "STRING",
+       "with --sample-image: the camera the rays were made with (`rays --camera`); the sampling "
+       "pass then also samples the shadow rays of the sample pixels' hits, as render does",
+       [&camera = job->sample_camera](const std::string& v) { camera = parse_camera(v); }},
       oracle_flag(job->params),
   };
   append(flags, structure_flags(job->params));
@@ -145,6 +149,8 @@ Parser trace_parser() {
             require("trace", "--out FILE", job->out_path);
             if ((job->walk_ray >= 0) != !job->walk_path.empty())
               throw UsageError("trace: --walk I and --walk-out FILE.json go together");
+            if (job->sample_camera && job->sample_image_width == 0)
+              throw UsageError("trace: --camera is the camera of --sample-image's image");
             check_structure(job->accel, words.flags, job->params);
             return Command{[job = *job] {
               run_trace(job);

@@ -252,7 +252,7 @@ Measurement measure(const RunInfo& run, const Config& config, const std::string&
   const Scene& scene = *config.scene->scene;
   std::unique_ptr<Accelerator> accel = make_structure(config, reference);
   record["build_seconds"] = seconds_of([&] { accel->build(scene); }) + seconds_of([&] {
-                              sample_image(*accel, config.camera, config.settings);
+                              sample_image(scene, *accel, config.camera, config.settings);
                             });
   const double estimate = config.accel == "zero"
                               ? 0.0
@@ -336,7 +336,7 @@ class Convergence {
     auto elapsed = [&] { return seconds_since(start); };
     auto accel = make_accelerator(accel_name, AccelParams{});
     accel->build(*bench_.scene);
-    sample_image(*accel, camera_, settings_);
+    sample_image(*bench_.scene, *accel, camera_, settings_);
     RenderSettings one_sample = settings_;
     one_sample.spp = 1;
     // A structure that cannot make two passes in the time limit (the uniform grid on lumpy)

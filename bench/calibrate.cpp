@@ -13,10 +13,10 @@
 #include "core/accel/grid1d/grid1d.h"
 #include "core/base/error.h"
 #include "core/base/timing.h"
-#include "core/render/render.h"
 #include "core/scene/camera.h"
 #include "core/scene/scene.h"
 #include "core/trace/run.h"
+#include "core/trace/sampling.h"
 
 namespace gs {
 namespace {
@@ -415,9 +415,7 @@ json validate(const CostFit& fit, double share) {
       for (int x = 0; x < kSide; ++x) rays.push_back(camera.primary_ray(x, y, kSide, kSide));
     const std::unique_ptr<Accelerator> grid = make_accelerator("grid1d", AccelParams{});
     grid->build(scene);
-    RenderSettings settings;
-    settings.width = settings.height = kSide;
-    sample_image(*grid, camera, settings);
+    sample_run(*grid, image_sample(rays, kSide, kSide), rays.size());
     rows.push_back(
         row_json(measure("builtin:" + name + ", default view", *grid, rays, share), fit));
   }

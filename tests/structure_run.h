@@ -29,7 +29,7 @@ inline std::unique_ptr<Accelerator> build_structure(const StructureRun& run, con
   std::unique_ptr<Accelerator> accel = make_accelerator(run.accel, run.params);
   accel->build(scene);
   if (run.sample && !rays.empty())
-    accel->sample(sample_subset(rays, run.params.sample_every), double(rays.size()));
+    sample_run(*accel, sample_subset(rays, run.params.sample_every), rays.size());
   if (run.eager) accel->build_all();
   return accel;
 }

@@ -6,7 +6,9 @@
 
 #include "core/accel/grid1d/grid1d.h"
 #include "core/accel/walk.h"
+#include "core/trace/sampling.h"
 #include "tests/cases.h"
+#include "tests/test_util.h"
 
 namespace gs {
 namespace {
@@ -78,8 +80,8 @@ TEST(Grid1DBuild, LazyTwoThreadsBuildTheSameVoxelsAsEager) {
   Grid1D lazy(params), eager(params);
   lazy.build(c.scene);
   eager.build(c.scene);
-  test::run_sampling_pass(lazy, c.rays, 64);
-  test::run_sampling_pass(eager, c.rays, 64);
+  sample_run(lazy, sample_subset(c.rays, 64), c.rays.size());
+  sample_run(eager, sample_subset(c.rays, 64), c.rays.size());
   eager.build_all();
   test::trace_all(lazy, c.rays, 2);
   lazy.build_all();
@@ -99,9 +101,51 @@ TEST(Grid1DBuild, LazyTwoThreadsBuildTheSameVoxelsAsEager) {
   EXPECT_EQ(lazy_cuts, eager_cuts);
 }
 
-// The recorded walk is the traversal's own: it ends on intersect()'s hit, its cells are
-// boxes the ray really passes through, one after the other through shared walls, and its
-// counts add up to the run's counters.
+// The sampling pass cuts with segments that already end at their hits (§1.5): a sample whose
+// rays are given unclipped builds exactly what the same sample clipped at brute force's hits
+// builds. The scene makes the difference show: one sample ray reaches a dense cluster, 99
+// stop on a wall in front of it, so counting them through the wall would make cutting the
+// cluster's voxels pay where one ray's worth does not.
+TEST(Grid1DSampling, CutsSeeSegmentsEndingAtTheirHits) {
+  Scene wall;
+  wall.vertices = {{-2, 0.1f, 1}, {2, 0.1f, 1}, {2, 2, 1},    {-2, 2, 1},
+                   {1.9f, -1, 3}, {2, -1, 3},   {2, -0.9f, 3}};  // and a speck above, aside
+  wall.triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}};
+  const Scene scene = test::merge(wall, test::make_soup(7, 400, {-1, -1, -21}, {1, 1, -19}, 0.05f));
+  std::vector<Ray> rays;
+  for (int i = 0; i < 100; ++i) {
+    Ray ray;
+    ray.origin = i == 0 ? glm::vec3(0.0f, -0.5f, 5.0f)
+                        : glm::vec3(-0.9f + 0.018f * float(i), 0.2f + 0.017f * float(i), 5.0f);
+    ray.dir = {0.0f, 0.0f, -1.0f};
+    rays.push_back(ray);
+  }
+  const std::vector<Hit> hits = test::brute_answers(scene, rays);
+  std::vector<Ray> clipped = rays;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    if (i > 0) {
+      ASSERT_TRUE(hits[i].found() && hits[i].id < 2) << "ray " << i << " stops on the wall";
+    }
+    if (hits[i].found()) clipped[i].tmax = hits[i].t;
+  }
+  const auto structure = [&](const std::vector<Ray>& sample) {
+    AccelParams params;
+    params.axis = AxisRule::cost;  // the z cut that puts the wall and the cluster apart
+    auto grid = std::make_unique<Grid1D>(params);
+    grid->build(scene);
+    sample_run(*grid, sample, sample.size());
+    grid->build_all();
+    std::vector<std::array<uint32_t, 3>> cuts;
+    for (uint32_t v = 0; v < grid->voxel_count(); ++v)
+      cuts.push_back(
+          {grid->voxel(v).status.load(), grid->voxel(v).axis, grid->voxel(v).granularity});
+    return cuts;
+  };
+  const auto unclipped_cuts = structure(rays), clipped_cuts = structure(clipped);
+  EXPECT_GT(clipped_cuts.size(), 1u);
+  EXPECT_EQ(unclipped_cuts, clipped_cuts);
+}
+
 // The recorded walk lists the cells the walk looked at (leaves whose contents the ray
 // meets; cells crossed without a look are not listed), in the order the ray enters them:
 // each holds triangles, the ray is inside it where the walk says it entered, through the
@@ -111,7 +155,7 @@ TEST(Grid1DWalk, RecordsTheCellsTheWalkLooksAt) {
   const Case& c = cases()[1];
   Grid1D grid(AccelParams{});
   grid.build(c.scene);
-  test::run_sampling_pass(grid, c.rays, 64);
+  sample_run(grid, sample_subset(c.rays, 64), c.rays.size());
   auto context = grid.make_context();
   size_t cells = 0, multi_cell = 0, hits = 0;
   const auto inside = [](const Ray& ray, double t, const WalkCell& cell, int a, double bound) {

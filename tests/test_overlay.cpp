@@ -404,7 +404,7 @@ TEST(PixelRecords, Grid1DRecordsSumToTheRunsCounters) {
   const Camera camera = quad_camera();
   RenderSettings settings;
   settings.width = 40, settings.height = 30, settings.spp = 2, settings.threads = 2;
-  sample_image(grid, camera, settings);
+  sample_image(scene, grid, camera, settings);
   const RenderOutcome out = render_image(scene, grid, camera, settings);
   ASSERT_EQ(out.pixels.size(), size_t(40 * 30));
   uint64_t steps = 0, tests = 0, built = 0;

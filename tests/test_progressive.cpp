@@ -54,7 +54,7 @@ RenderOutcome reference(const Camera& camera, int spp, const Scene& scene = *pyr
                         const AccelParams& params = {}) {
   Grid1D grid{params};
   grid.build(scene);
-  sample_image(grid, camera, settings(1));
+  sample_image(scene, grid, camera, settings(1));
   return render_image(scene, grid, camera, settings(spp));
 }
 
@@ -247,8 +247,9 @@ void expect_same_walk(const Walk& got, const Walk& expected) {
 TEST(Progressive, RecordWalkIsTheWalkOfTheImagesStructure) {
   const Camera camera = first_camera();
   Grid1D grid{AccelParams{}};
-  grid.build(*pyramid());
-  sample_image(grid, camera, settings(1, 1));
+  const std::shared_ptr<const Scene> scene = pyramid();
+  grid.build(*scene);
+  sample_image(*scene, grid, camera, settings(1, 1));
   const std::unique_ptr<ThreadContext> context = grid.make_context();
 
   ProgressiveRenderer renderer;

@@ -11,10 +11,12 @@
 #include <string>
 #include <vector>
 
+#include "core/accel/brute.h"
+#include "core/accel/grid1d/grid1d.h"
+#include "core/accel/zero_overhead.h"
 #include "core/base/error.h"
 #include "core/geometry/ray_io.h"
 #include "core/render/render.h"
-#include "core/accel/zero_overhead.h"
 #include "tests/test_util.h"
 
 namespace gs {
@@ -153,6 +155,74 @@ TEST(RenderImage, LitAndShadowedFloorHaveClosedFormColours) {
   }
 }
 
+// Stands in for a structure to see what an image's sampling pass hands over: the sample, the
+// weight of each sample ray and the rays spawned from brute force's answers.
+class SampleSpy final : public Accelerator {
+ public:
+  std::string name() const override { return "spy"; }
+  void build(const Scene& scene) override { brute_.build(scene); }
+  void sample(std::span<const Ray> rays, double weight, const SpawnRays& spawn) override {
+    const std::unique_ptr<ThreadContext> context = brute_.make_context();
+    primaries.assign(rays.begin(), rays.end());
+    rays_per_sample_ray = weight;
+    for (const Ray& ray : primaries) spawn(ray, brute_.intersect(ray, *context), spawned);
+  }
+  Box bounds() const override { return brute_.bounds(); }
+  std::unique_ptr<ThreadContext> make_context() const override { return brute_.make_context(); }
+  Hit intersect(const Ray& ray, ThreadContext& context) const override {
+    return brute_.intersect(ray, context);
+  }
+  Hit any_hit(const Ray& ray, ThreadContext& context) const override {
+    return brute_.any_hit(ray, context);
+  }
+  StructureStats stats() const override { return brute_.stats(); }
+
+  std::vector<Ray> primaries, spawned;
+  double rays_per_sample_ray = 0.0;
+
+ private:
+  BruteForce brute_{};
+};
+
+// 17x9 pixels make 3x2 blocks of 8x8: six sample pixels, each standing for 17*9*2/6 = 51 of
+// the image's primary rays (spp 2). Each primary meets the floor, which faces the light: one
+// shadow ray each, from just above the floor to the light.
+TEST(RenderSample, SamplesEachHitsShadowRayAtThePrimariesWeight) {
+  const Scene scene = open_floor();
+  SampleSpy spy;
+  spy.build(scene);
+  sample_image(scene, spy, down_camera(), settings_of(17, 9, 2, 0, 1));
+  ASSERT_EQ(spy.primaries.size(), 6u);
+  EXPECT_EQ(spy.rays_per_sample_ray, 51.0);
+  ASSERT_EQ(spy.spawned.size(), 6u);
+  const glm::dvec3 light = light_of(scene, down_camera());
+  for (const Ray& shadow : spy.spawned) {
+    EXPECT_GT(shadow.origin.z, 0.0f);
+    EXPECT_LT(shadow.origin.z, 0.1f);
+    EXPECT_EQ(shadow.tmax, 1.0f);
+    const glm::dvec3 end = glm::dvec3(shadow.origin) + glm::dvec3(shadow.dir);
+    EXPECT_LT(glm::length(end - light), 1e-4 * glm::length(light));
+  }
+  // Looking away from the floor: no primary hits, no shadow ray.
+  Camera up = down_camera();
+  up.target = {0, 0, 10};
+  SampleSpy away;
+  away.build(scene);
+  sample_image(scene, away, up, settings_of(17, 9, 2, 0, 1));
+  EXPECT_EQ(away.primaries.size(), 6u);
+  EXPECT_TRUE(away.spawned.empty());
+}
+
+// grid1d counts the shadow rays too: under the ceiling the six primaries and their six
+// shadow rays all cross the scene box, so the root stands for 12 * 51 rays.
+TEST(RenderSample, Grid1DCountsPrimaryAndShadowSegments) {
+  const Scene scene = covered_floor();
+  Grid1D grid(AccelParams{});
+  grid.build(scene);
+  sample_image(scene, grid, down_camera(), settings_of(17, 9, 2, 0, 1));
+  EXPECT_EQ(grid.cost_report(0).figures.rays, 12.0 * 51.0);
+}
+
 TEST(RenderImage, BouncesOnlyAddLightAndIgnoreTheThreadCount) {
   const Scene scene = load_scene("builtin:pyramid");
   const Camera camera = frame_box(scene.bounds(), 32.0f / 24.0f);
@@ -237,6 +307,43 @@ TEST(RenderCli, ZeroWithAShortOracleExitsWithStatus1NamingIt) {
   EXPECT_EQ(run.status, 1);
   EXPECT_NE(run.err.find(hits), std::string::npos) << run.err;
   EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+}
+
+// `trace --sample-image WxH --camera C` on the image's primary rays samples what render's pass
+// samples (primaries and their shadow rays), so it builds render's structure: the same voxels
+// as sample_image in this process, built out. Without --camera it samples the primaries only,
+// and on this view that cuts differently.
+TEST(RenderCli, TraceWithTheImagesCameraBuildsTheRendersStructure) {
+  const std::string camera = "eye=0.5,-2.2,1.4;target=0,0,0.3;up=0,0,1;fov=45";
+  const Scene scene = load_scene("builtin:pyramid");
+  Grid1D grid(AccelParams{});
+  grid.build(scene);
+  sample_image(scene, grid, parse_camera(camera), settings_of(160, 120, 1, 0, 1));
+  grid.build_all();
+  const StructureStats expected = grid.stats();
+
+  const std::string rays = temp_path("image.rays"), stats = temp_path("image_trace.json");
+  ASSERT_EQ(test::run_gridscope("rays builtin:pyramid --size 160x120 --camera " + quoted(camera) +
+                                " --out " + quoted(rays))
+                .status,
+            0);
+  const auto traced = [&](const std::string& flags) {
+    const test::CommandOutcome run = test::run_gridscope(
+        "trace builtin:pyramid --eager --sample-image 160x120 --rays " + quoted(rays) + " --out " +
+        quoted(temp_path("image.hits")) + " --stats " + quoted(stats) + flags);
+    EXPECT_EQ(run.status, 0) << run.err;
+    const nlohmann::json record = nlohmann::json::parse(test::slurp(stats));
+    return std::pair<uint64_t, uint64_t>(record.at("voxels_subdivided"), record.at("leaves"));
+  };
+  const auto with_camera = traced(" --camera " + quoted(camera));
+  EXPECT_EQ(with_camera.first, *expected.voxels_subdivided);
+  EXPECT_EQ(with_camera.second, *expected.leaves);
+  EXPECT_NE(traced(""), with_camera);
+  EXPECT_EQ(test::run_gridscope("trace builtin:pyramid --rays " + quoted(rays) + " --out " +
+                                quoted(temp_path("image.hits")) + " --camera " + quoted(camera))
+                .status,
+            2)
+      << "--camera without --sample-image";
 }
 
 TEST(RenderCli, ZeroWithoutOracleIsAUsageError) {

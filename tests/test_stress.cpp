@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include "core/accel/grid1d/grid1d.h"
+#include "core/trace/sampling.h"
 #include "tests/cases.h"
 
 namespace gs {
@@ -164,8 +165,8 @@ TEST(Laziness, PartialViewBuildsFarFewerNodes) {
   Grid1D lazy(AccelParams{}), eager(AccelParams{});
   lazy.build(scene);
   eager.build(scene);
-  test::run_sampling_pass(lazy, rays, 64);
-  test::run_sampling_pass(eager, rays, 64);
+  sample_run(lazy, sample_subset(rays, 64), rays.size());
+  sample_run(eager, sample_subset(rays, 64), rays.size());
   eager.build_all();
   test::trace_all(lazy, rays, 2);
   const uint64_t lazy_nodes = *lazy.stats().nodes, eager_nodes = *eager.stats().nodes;
@@ -182,7 +183,8 @@ TEST(Sharing, StatesAreAFractionOfSubdividedVoxels) {
     Grid1D grid(AccelParams{});
     grid.build(scene);
     // Sample rays aimed at the triangles themselves, so dense detail is seen however small.
-    test::run_sampling_pass(grid, test::edge_and_vertex_rays(scene, 5, 262144), 64);
+    const std::vector<Ray> rays = test::edge_and_vertex_rays(scene, 5, 262144);
+    sample_run(grid, sample_subset(rays, 64), rays.size());
     grid.build_all();
     const StructureStats stats = grid.stats();
     const double ratio = double(*stats.traversal_states) / double(*stats.voxels_subdivided);

@@ -269,10 +269,4 @@ std::vector<Hit> trace_all(const Accelerator& accel, const std::vector<Ray>& ray
   return hits;
 }
 
-void run_sampling_pass(Accelerator& accel, const std::vector<Ray>& rays, int every) {
-  std::vector<Ray> sample;
-  for (size_t i = 0; i < rays.size(); i += size_t(every)) sample.push_back(rays[i]);
-  accel.sample(sample, double(rays.size()));
-}
-
 }  // namespace gs::test

@@ -92,7 +92,5 @@ std::vector<Ray> edge_and_vertex_rays(const Scene& scene, uint32_t seed, int cou
 // Traces every ray with `threads` threads, each with its own context.
 std::vector<Hit> trace_all(const Accelerator& accel, const std::vector<Ray>& rays, int threads,
                            bool any_hit = false);
-// The sampling pass as the command line does it: every `every`-th ray.
-void run_sampling_pass(Accelerator& accel, const std::vector<Ray>& rays, int every);
 
 }  // namespace gs::test

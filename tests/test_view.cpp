@@ -115,9 +115,9 @@ TEST(View, ScriptedClickRecordsTheWalkTraceRecords) {
   const Outcome made = run("rays builtin:pyramid --size " + size + " --camera '" + camera +
                            "' --out '" + rays + "'");
   ASSERT_EQ(made.status, 0) << made.err;
-  const Outcome traced =
-      run("trace builtin:pyramid --rays '" + rays + "' --out '" + hits + "' --sample-image " +
-          size + " --walk " + std::to_string(y * width + x) + " --walk-out '" + traced_path + "'");
+  const Outcome traced = run("trace builtin:pyramid --rays '" + rays + "' --out '" + hits +
+                             "' --sample-image " + size + " --camera '" + camera + "' --walk " +
+                             std::to_string(y * width + x) + " --walk-out '" + traced_path + "'");
   ASSERT_EQ(traced.status, 0) << traced.err;
   expect_same_cells(walk, read_json(traced_path));
 }

@@ -23,7 +23,7 @@ void TraceCounters::add(const TraceCounters& other) {
   lazy_build_seconds += other.lazy_build_seconds;
 }
 
-void Accelerator::sample(std::span<const Ray>, double) {}
+void Accelerator::sample(std::span<const Ray>, double, const SpawnRays&) {}
 
 std::vector<std::string> accelerator_names() {
   std::vector<std::string> names;

@@ -3,6 +3,7 @@
 // inner loops behind intersect/occluded are non-virtual.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <nlohmann/json_fwd.hpp>
 #include <optional>
@@ -66,6 +67,9 @@ struct StructureStats {
   bool counts_descents = false;  // only grid1d goes down into subdivided voxels one by one
 };
 
+// The rays a run casts from one ray's answer, appended to `next` (see Accelerator::sample).
+using SpawnRays = std::function<void(const Ray& ray, const Hit& hit, std::vector<Ray>& next)>;
+
 class Accelerator {
  public:
   virtual ~Accelerator() = default;
@@ -74,8 +78,12 @@ class Accelerator {
   // Builds what is built up front. The scene must outlive the structure.
   virtual void build(const Scene& scene) = 0;
   // The paper's sampling pass (§6.5): a regular subset of the run's rays, traced before the
-  // run so that the cost function knows how many rays cross a voxel. Default: nothing.
-  virtual void sample(std::span<const Ray> sample_rays, double rays_in_run);
+  // run so that the cost function knows how many rays cross a voxel; each sample ray stands
+  // for `run_rays_per_sample_ray` rays of the run. `spawn`, when given, adds the rays the run
+  // casts from a sample ray's answer (a renderer's shadow ray); they are sampled too, with
+  // the same weight. Default: nothing.
+  virtual void sample(std::span<const Ray> sample_rays, double run_rays_per_sample_ray,
+                      const SpawnRays& spawn = {});
   // Builds everything a lazy structure would build on demand (--eager). Default: nothing.
   virtual void build_all() {}
 

@@ -199,7 +199,7 @@ void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& s
       // Parameters changed (or the window closed) during the build: skip the sampling pass
       // of a structure nobody will use. A camera change keeps it: it still fits.
       if (!wanted(StructureKey(setup))) return;
-      sample_image(*built, setup.camera, centre);
+      sample_image(*setup.scene, *built, setup.camera, centre);
       lazy_seconds = 0.0;
       std::lock_guard lock(mutex);
       ready = built;

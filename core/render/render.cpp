@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <glm/geometric.hpp>
+#include <optional>
 #include <stdexcept>
 
 #include "core/base/error.h"
@@ -14,6 +15,7 @@
 #include "core/base/hash.h"
 #include "core/base/timing.h"
 #include "core/geometry/ray_io.h"
+#include "core/scene/lighting.h"
 #include "core/trace/sampling.h"
 
 namespace gs {
@@ -23,34 +25,12 @@ namespace {
 constexpr glm::vec3 kAlbedo{0.85f, 0.80f, 0.72f};
 constexpr float kAmbient = 0.15f;
 
-// The point light and the scene's scale, fixed for one image.
-struct Lighting {
-  glm::vec3 light;
-  float offset_scale;  // shadow rays start this far (times the coordinates' size) off the surface
-};
-
-Lighting make_lighting(const Scene& scene, const Camera& camera,
-                       const std::optional<glm::vec3>& placed) {
-  const Box box = scene.bounds();
-  const float size = box.empty() ? 1.0f : std::max(glm::length(box.hi - box.lo), 1e-6f);
-  if (placed) return {*placed, size};
-  // Above and behind the viewer, a little to the side, so that faces towards the camera are
-  // lit and shadows fall visibly down and away.
-  const glm::vec3 light = camera.eye - camera.forward() * (0.5f * size) + camera.true_up() * size +
-                          camera.right() * (0.3f * size);
-  return {light, size};
-}
-
 float unit_float(uint32_t bits) { return float(bits >> 8) * (1.0f / 16777216.0f); }
 
 // A uniform number in [0, 1) for stream `stream` of a seed: the pixel jitter and the
 // bounce directions, the same every run.
 float hashed_unit(uint32_t seed, uint32_t stream) {
   return unit_float(mix_bits(seed ^ mix_bits(stream)));
-}
-
-float max_abs(const glm::vec3& p) {
-  return std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
 }
 
 // Casts one sample's rays, each under its key (set as the context's ray_index, so that
@@ -77,40 +57,12 @@ struct SampleTracer {
   }
 };
 
-// A hit point and its normal, turned to face where the ray came from (two-sided surfaces).
-struct Surface {
-  glm::vec3 point;
-  glm::vec3 normal;
-};
-
-Surface surface_at(const Scene& scene, const Hit& hit, const glm::vec3& ray_dir) {
-  const uint32_t id = uint32_t(hit.id);
-  const glm::vec3 &a = scene.vertex(id, 0), &b = scene.vertex(id, 1), &c = scene.vertex(id, 2);
-  // The point from the barycentrics lies on the triangle, unlike origin + t * dir.
-  const glm::vec3 point = (1.0f - hit.u - hit.v) * a + hit.u * b + hit.v * c;
-  glm::vec3 normal = glm::normalize(glm::cross(b - a, c - a));
-  if (glm::dot(normal, ray_dir) > 0.0f) normal = -normal;
-  return {point, normal};
-}
-
-// Where rays leaving a surface start: off it on the normal's side, so that the triangle
-// cannot hit itself.
-glm::vec3 ray_start(const Surface& surface, const Lighting& lighting) {
-  return surface.point +
-         surface.normal * (1e-4f * lighting.offset_scale + 1e-5f * max_abs(surface.point));
-}
-
 // The cosine of the light's angle to the normal, 0 when the light is behind the surface or
 // the shadow ray (bounce's, cast only toward a lit side) is blocked.
 float direct_light(SampleTracer& tracer, const Surface& surface, int bounce) {
-  const float lambert =
-      glm::dot(surface.normal, glm::normalize(tracer.lighting.light - surface.point));
-  if (!(lambert > 0.0f)) return 0.0f;
-  Ray shadow;
-  shadow.origin = ray_start(surface, tracer.lighting);
-  shadow.dir = tracer.lighting.light - shadow.origin;
-  shadow.tmax = 1.0f;  // the light itself
-  return tracer.cast(shadow, bounce, RayKind::shadow).found() ? 0.0f : lambert;
+  const std::optional<LightPath> path = light_path(surface, tracer.lighting);
+  if (!path) return 0.0f;
+  return tracer.cast(path->shadow, bounce, RayKind::shadow).found() ? 0.0f : path->lambert;
 }
 
 // A cosine-weighted direction about the unit normal from two uniform numbers (Malley's
@@ -292,12 +244,14 @@ uint64_t render_ray_keys(const RenderSettings& settings) {
          uint64_t(settings.bounces + 1) * 2;
 }
 
-void sample_image(Accelerator& accel, const Camera& camera, const RenderSettings& settings) {
+void sample_image(const Scene& scene, Accelerator& accel, const Camera& camera,
+                  const RenderSettings& settings) {
   const int w = settings.width, h = settings.height;
-  std::vector<Ray> rays;
+  std::vector<Ray> primaries;
   for (const size_t pixel : image_sample_pixels(w, h))
-    rays.push_back(camera.primary_ray(int(pixel % size_t(w)), int(pixel / size_t(w)), w, h));
-  accel.sample(rays, double(w) * double(h) * double(settings.spp));
+    primaries.push_back(camera.primary_ray(int(pixel % size_t(w)), int(pixel / size_t(w)), w, h));
+  sample_image_rays(accel, scene, make_lighting(scene, camera, settings.light), primaries,
+                    size_t(w) * size_t(h) * size_t(settings.spp));
 }
 
 RenderOutcome render_image(const Scene& scene, const Accelerator& accel, const Camera& camera,
@@ -343,7 +297,7 @@ RenderRun build_and_render(const Scene& scene, Accelerator& accel, const Camera&
                            const RenderSettings& settings, std::vector<Hit>* answers) {
   RenderRun run;
   run.figures.build_seconds = seconds_of([&] { accel.build(scene); }) +
-                              seconds_of([&] { sample_image(accel, camera, settings); });
+                              seconds_of([&] { sample_image(scene, accel, camera, settings); });
   run.outcome = render_image(scene, accel, camera, settings, answers);
   run.figures.rays = run.outcome.rays;
   run.figures.trace_seconds = run.outcome.seconds;

@@ -70,9 +70,11 @@ struct RenderOutcome {
   TraceCounters counters;
 };
 
-// The paper's sampling pass for an image (docs/design.md §1.5): the primary ray of
-// one pixel in every 8x8 block, standing for all width * height * spp primary rays.
-void sample_image(Accelerator& accel, const Camera& camera, const RenderSettings& settings);
+// The paper's sampling pass for an image (docs/design.md §1.5): the primary ray of one pixel
+// in every 8x8 block, standing for all width * height * spp primary rays, and the shadow ray
+// from its hit, standing for the shadow rays of those primaries.
+void sample_image(const Scene& scene, Accelerator& accel, const Camera& camera,
+                  const RenderSettings& settings);
 
 // Which of a bounce's two rays: the nearest-hit ray (primary or diffuse bounce) or the
 // shadow ray from its hit toward the light.

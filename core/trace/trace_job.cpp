@@ -24,10 +24,7 @@ std::vector<Ray> sample_of(const std::vector<Ray>& rays, const TraceJob& job) {
                                   std::to_string(pixels) + " of a " +
                                   std::to_string(job.sample_image_width) + "x" +
                                   std::to_string(job.sample_image_height) + " image");
-  std::vector<Ray> subset;
-  for (const size_t pixel : image_sample_pixels(job.sample_image_width, job.sample_image_height))
-    subset.push_back(rays[pixel]);
-  return subset;
+  return image_sample(rays, job.sample_image_width, job.sample_image_height);
 }
 
 nlohmann::json trace_parameters(const TraceJob& job) {
@@ -46,7 +43,13 @@ double prepare(Accelerator& accel, const Scene& scene, const std::vector<Ray>& r
   // With no rays there is nothing to sample, and a count of zero rays would mean nothing.
   if (!rays.empty()) {
     const std::vector<Ray> subset = sample_of(rays, job);
-    seconds += seconds_of([&] { accel.sample(subset, double(rays.size())); });
+    seconds += seconds_of([&] {
+      if (job.sample_camera)
+        sample_image_rays(accel, scene, make_lighting(scene, *job.sample_camera, std::nullopt),
+                          subset, rays.size());
+      else
+        sample_run(accel, subset, rays.size());
+    });
   }
   if (job.eager) seconds += seconds_of([&] { accel.build_all(); });
   return seconds;

@@ -2,11 +2,13 @@
 // structure into a hit file and a stats record.
 #pragma once
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/accel/accelerator.h"
 #include "core/base/parallel.h"
+#include "core/scene/camera.h"
 #include "core/scene/scene.h"
 
 namespace gs {
@@ -28,6 +30,9 @@ struct TraceJob {
   // and the sampling pass takes the image's pixels (one per 8x8 block) as `render`, `shot`
   // and the viewer do, so the structure is theirs.
   int sample_image_width = 0, sample_image_height = 0;
+  // With the image's camera too, the pass also samples the shadow rays of the sample pixels'
+  // hits toward the light render places for that camera, as render does.
+  std::optional<Camera> sample_camera;
   // With walk_ray >= 0: that ray's walk, recorded after the run, is written to walk_path.
   int64_t walk_ray = -1;
   std::string walk_path;

@@ -102,6 +102,12 @@ size_t Grid1D::fits_budget(size_t first, const char* what) const {
 void Grid1D::build(const Scene& scene) {
   const auto start = Clock::now();
   input_ = BuildInput(scene);
+  make_root();
+  build_seconds_ = seconds_since(start);
+}
+
+// The root voxel: every usable triangle, the traversal states of the box on each axis.
+void Grid1D::make_root() {
   for (uint32_t a = 0; a < 3; ++a) state_for(a, 1);  // states 0, 1, 2: the box on each axis
   const auto root = uint32_t(fits_budget(voxels_.append(1), "its record"));
   if (!regions_.construct(root, 1)) fits_budget(SIZE_MAX, "its region");
@@ -118,38 +124,59 @@ void Grid1D::build(const Scene& scene) {
   if (empty) voxel.status.store(kLeaf, std::memory_order_relaxed);
   root_ref_ = child_ref::make(empty ? child_ref::kEmpty : child_ref::kUnbuilt, root);
   bytes_used_ = sizeof(Voxel) + sizeof(Region) + usable.size() * sizeof(uint32_t);
-  build_seconds_ = seconds_since(start);
 }
 
-void Grid1D::sample(std::span<const Ray> sample_rays, double rays_in_run) {
-  if (voxels_[0].status.load() != kUnexamined && voxels_[0].tri_count > 0)
-    throw std::logic_error("Grid1D::sample must come before any tracing or build_all");
+// The sampling pass in two passes (§6.5: the segments that decide a cut must already end at
+// their hits). First a scout, a grid1d with no sample (every cut assumes plenty of rays),
+// traces the sample rays and those `spawn` adds, in order on one thread; then the segments,
+// clipped at the scout's exact answers, go to this structure's root, which nothing has cut.
+// Every cut is thus a function of the sample alone.
+void Grid1D::sample(std::span<const Ray> sample_rays, double run_rays_per_sample_ray,
+                    const SpawnRays& spawn) {
+  if (sampled_ || (voxels_[0].status.load() != kUnexamined && voxels_[0].tri_count > 0))
+    throw std::logic_error("Grid1D::sample must come once, before any tracing or build_all");
   const auto start = Clock::now();
-  for (const Ray& ray : sample_rays) {
-    SampleRay s{};
-    s.ray = ray;
-    if (!input_.clip.clip(ray, s.t0, s.t1)) continue;
-    for (int a = 0; a < 3; ++a) s.origin[a] = ray.origin[a], s.dir[a] = ray.dir[a];
-    sample_.push_back(s);
-  }
+  sample_ = scout_sample(sample_rays, spawn);
   sampled_ = true;
-  rays_per_sample_ = sample_rays.empty() ? 0.0 : rays_in_run / double(sample_rays.size());
+  rays_per_sample_ = run_rays_per_sample_ray;
   Region& root = regions_[0];
-  root.area_rays = rays_in_run;  // used only if no sample segment crosses the box
+  // Used only if no sample segment crosses the box.
+  root.area_rays = double(sample_rays.size()) * run_rays_per_sample_ray;
   root.sample_count = uint32_t(sample_.size());
   root.sample_begin =
       uint32_t(fits_budget(sample_indices_.append(sample_.size()), "the sampling pass's rays"));
   for (uint32_t j = 0; j < sample_.size(); ++j) sample_indices_[root.sample_begin + j] = j;
   bytes_used_ += sample_.size() * sizeof(uint32_t);
-
-  // The breadth of the paper's pass is the sample; its order is fixed (ray order, one
-  // thread), so every cut it makes is a function of the sample alone.
-  Context context(*this);
-  for (SampleRay& s : sample_) {
-    const Hit hit = intersect(s.ray, context);
-    if (hit.found()) s.t1 = std::min(s.t1, double(hit.t));
-  }
   build_seconds_ += seconds_since(start);
+}
+
+// The sample's segments inside the clip box, each ending at its ray's nearest hit.
+std::vector<Grid1D::SampleRay> Grid1D::scout_sample(std::span<const Ray> sample_rays,
+                                                    const SpawnRays& spawn) {
+  Grid1D scout(params_);
+  // The scout borrows the build's input and gives it back however it leaves.
+  struct Loan {
+    BuildInput& owner;
+    BuildInput& borrower;
+    ~Loan() { owner = std::move(borrower); }
+  } loan{input_, scout.input_};
+  scout.input_ = std::move(input_);
+  scout.make_root();
+  Context context(scout);
+  std::vector<Ray> rays(sample_rays.begin(), sample_rays.end());
+  std::vector<SampleRay> segments;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const Ray ray = rays[i];  // `spawn` may grow `rays`
+    const Hit hit = scout.intersect(ray, context);
+    if (spawn && i < sample_rays.size()) spawn(ray, hit, rays);
+    SampleRay s{};
+    s.ray = ray;
+    if (!scout.input_.clip.clip(ray, s.t0, s.t1)) continue;
+    if (hit.found()) s.t1 = std::min(s.t1, double(hit.t));
+    for (int a = 0; a < 3; ++a) s.origin[a] = ray.origin[a], s.dir[a] = ray.dir[a];
+    segments.push_back(s);
+  }
+  return segments;
 }
 
 void Grid1D::build_all() {

@@ -58,7 +58,8 @@ class Grid1D final : public Accelerator {
 
   std::string name() const override { return "grid1d"; }
   void build(const Scene& scene) override;
-  void sample(std::span<const Ray> sample_rays, double rays_in_run) override;
+  void sample(std::span<const Ray> sample_rays, double run_rays_per_sample_ray,
+              const SpawnRays& spawn = {}) override;
   void build_all() override;
   Box bounds() const override { return input_.bounds; }
   std::unique_ptr<ThreadContext> make_context() const override;
@@ -141,6 +142,8 @@ class Grid1D final : public Accelerator {
   void set_stop(RayWalk& walk) const;
 
   // Lazy build (build.cpp).
+  void make_root();
+  std::vector<SampleRay> scout_sample(std::span<const Ray> sample_rays, const SpawnRays& spawn);
   uint32_t examine(uint32_t voxel, Context& context) const;
   uint32_t make_leaf(uint32_t voxel) const;
   Cut plan_cut(uint32_t voxel) const;
@@ -165,9 +168,9 @@ class Grid1D final : public Accelerator {
   BuildInput input_;
   double build_seconds_ = 0.0;
 
-  // The sampling pass (§6.5): sample rays, their segments clipped at hits once known.
+  // The sampling pass (§6.5): sample rays, their segments clipped at their hits.
   std::vector<SampleRay> sample_;
-  double rays_per_sample_ = 0.0;  // rays in the run / rays in the sample
+  double rays_per_sample_ = 0.0;  // rays of the run each sample ray stands for
   bool sampled_ = false;
 
   // Lazily grown storage: appended by whichever thread cuts a voxel, never moved.
