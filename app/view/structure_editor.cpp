@@ -3,71 +3,94 @@
 #include <imgui.h>
 
 #include <algorithm>
-#include <utility>
-#include <vector>
+#include <ranges>
+#include <string_view>
+#include <type_traits>
+#include <variant>
 
 #include "app/flags.h"
 #include "app/view/state.h"
+#include "core/accel/registry.h"
 #include "core/base/error.h"
 
 namespace gs::app {
 
 namespace {
 
-// The structure's index in accelerator_names() (their count when unknown).
-int accelerator_index(const std::string& name) {
-  const std::vector<std::string> names = accelerator_names();
-  return int(std::find(names.begin(), names.end(), name) - names.begin());
+// The structures the viewer can build: this build's, except those that replay another run's
+// hit file (the viewer's rays have no such file).
+bool viewable(const Structure& structure) {
+  return structure.available() && !structure.needs_oracle;
 }
 
-void cost_slider(const char* label, double& value) {
-  const double lo = 0.0, hi = 20.0;
-  ImGui::SliderScalar(label, ImGuiDataType_Double, &value, &lo, &hi, "%.2f");
+// The words of a choice row's value_name, "alternate|cost", as radio buttons over the enum.
+void choice_control(const ParamSpec& spec, AxisRule& value) {
+  int chosen = int(value), index = 0;
+  for (const auto word : std::views::split(spec.value_name, '|')) {
+    if (index) ImGui::SameLine();
+    const std::string label(word.begin(), word.end());
+    ImGui::RadioButton(label.c_str(), &chosen, index++);
+  }
+  value = AxisRule(chosen);
 }
 
 }  // namespace
 
-std::string byte_text(uint64_t bytes) {
-  constexpr std::pair<int, const char*> kSuffixes[] = {{30, "G"}, {20, "M"}, {10, "K"}};
-  for (const auto& [shift, suffix] : kSuffixes)
-    if (bytes > 0 && bytes % (uint64_t{1} << shift) == 0)
-      return std::to_string(bytes >> shift) + suffix;
-  return std::to_string(bytes);
-}
-
 StructureEditor::StructureEditor(const std::string& accel, const AccelParams& params)
-    : accel_(accelerator_index(accel)), params_(params) {
+    : accel_(accel), params_(params) {
   budget_text_.set(byte_text(params.memory_budget));
 }
 
 void StructureEditor::controls(ViewState& state) {
-  const std::vector<std::string> names = accelerator_names();
-  for (int i = 0; i < int(names.size()); ++i) {
-    if (i) ImGui::SameLine();
-    ImGui::RadioButton(names[size_t(i)].c_str(), &accel_, i);
+  if (ImGui::BeginCombo("structure", accel_.c_str())) {
+    for (const Structure& structure : structures()) {
+      if (!viewable(structure)) continue;
+      if (ImGui::Selectable(structure.name.c_str(), accel_ == structure.name))
+        accel_ = structure.name;
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", structure.description.c_str());
+    }
+    ImGui::EndCombo();
   }
-  cost_slider("Intcost", params_.intcost);
-  cost_slider("Repcost", params_.repcost);
-  cost_slider("Travcost", params_.travcost);
-  cost_slider("Vertcost", params_.vertcost);
-  cost_slider("Subcost", params_.subcost);
-  ImGui::SliderInt("max granularity", &params_.max_granularity, 2, 64);
-  int axis = int(params_.axis);
-  ImGui::RadioButton("alternate axes", &axis, int(AxisRule::alternate));
-  ImGui::SameLine();
-  ImGui::RadioButton("axis by cost", &axis, int(AxisRule::cost));
-  params_.axis = AxisRule(axis);
-  budget_text_.input("memory budget");
-  if (ImGui::IsItemHovered())
-    ImGui::SetTooltip(
-        "bytes of structure, suffix K, M or G; a voxel that would exceed it "
-        "stays a leaf");
+  if (const Structure* structure = find_structure(accel_))
+    for (const ParamUse& use : structure->params) {
+      const ParamSpec& spec = param_spec(use.param);
+      if (spec.structure_flag) param_control(spec, use.default_text);
+    }
   if (ImGui::Button("Apply (rebuild)")) apply(state);
+}
+
+void StructureEditor::param_control(const ParamSpec& spec, const std::string& default_text) {
+  const std::string label(spec.flag.substr(2));  // "max-granularity"
+  std::visit(
+      [&](auto field) {
+        auto& value = params_.*field;
+        using Value = std::remove_reference_t<decltype(value)>;
+        if constexpr (std::is_same_v<Value, double>) {
+          // Relative timings (§6.2) and densities span decades: logarithmic sliders.
+          const double lo = 0.0, hi = 100.0;
+          ImGui::SliderScalar(label.c_str(), ImGuiDataType_Double, &value, &lo, &hi, "%.3g",
+                              ImGuiSliderFlags_Logarithmic);
+        } else if constexpr (std::is_same_v<Value, int>) {
+          // Capped for the slider's sake; the full range stays reachable by Ctrl+click.
+          const std::string shown =
+              value == 0 && spec.zero_is_default ? "default (" + default_text + ")" : "%d";
+          ImGui::SliderInt(label.c_str(), &value, int(spec.lo), std::min(int(spec.hi), 4096),
+                           shown.c_str(), ImGuiSliderFlags_Logarithmic);
+        } else if constexpr (std::is_same_v<Value, uint64_t>) {
+          budget_text_.input(label.c_str());
+        } else if constexpr (std::is_same_v<Value, AxisRule>) {
+          choice_control(spec, value);
+        }
+      },
+      spec.field);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("%s%s%s", std::string(spec.help).c_str(),
+                      default_text.empty() ? "" : "; default ", default_text.c_str());
 }
 
 void StructureEditor::set(ViewState& state, const std::string& name, const std::string& value) {
   if (name == "accel") {
-    accel_ = accelerator_index(value);
+    accel_ = value;
   } else {
     apply_structure_flag(params_, "--" + name, value);
     budget_text_.set(byte_text(params_.memory_budget));
@@ -78,14 +101,12 @@ void StructureEditor::set(ViewState& state, const std::string& name, const std::
 void StructureEditor::apply(ViewState& state) {
   try {
     apply_structure_flag(params_, "--memory-budget", budget_text_.c_str());
+    check_params(accel_, params_);
   } catch (const UsageError& e) {
     state.status.set(e.what());
     return;
   }
-  const std::vector<std::string> names = accelerator_names();
-  const std::string accel = accel_ >= 0 && accel_ < int(names.size()) ? names[size_t(accel_)]
-                                                                      : state.session.setup().accel;
-  state.session.set_structure(accel, params_);
+  state.session.set_structure(accel_, params_);
   state.structure_replaced();
 }
 

@@ -1,8 +1,9 @@
-// The controls panel's structure section: the structure, its cost constants, maximum
-// granularity, axis rule and memory budget, edited on copies and applied together ("Apply"),
-// since each change rebuilds the structure. The script's `set NAME VALUE` edits the same copies.
+// The controls panel's structure section: the structure and the parameters it reads, both
+// listed from the registry and the parameter table (core/accel/registry.h, params.h), so a new
+// structure or parameter shows here without touching the viewer. Edits go to copies and are
+// applied together ("Apply"), since each change rebuilds the structure. The script's
+// `set NAME VALUE` edits the same copies.
 #pragma once
-#include <cstdint>
 #include <string>
 
 #include "app/view/text_field.h"
@@ -11,9 +12,6 @@
 namespace gs::app {
 
 struct ViewState;
-
-// A byte count as --memory-budget takes it back: the largest suffix that divides it.
-std::string byte_text(uint64_t bytes);
 
 class StructureEditor {
  public:
@@ -24,12 +22,14 @@ class StructureEditor {
   void set(ViewState& state, const std::string& name, const std::string& value);
 
  private:
+  // The widget of one parameter the edited structure reads.
+  void param_control(const ParamSpec& spec, const std::string& default_text);
   // The edited structure and parameters replace the current ones: a new structure.
   void apply(ViewState& state);
 
-  int accel_ = 0;  // an index into accelerator_names()
+  std::string accel_;
   AccelParams params_;
-  TextField<32> budget_text_;
+  TextField<32> budget_text_;  // bytes are typed ("512M"), parsed on Apply
 };
 
 }  // namespace gs::app
