@@ -1,5 +1,8 @@
 #include "bench/bench.h"
 
+#include <time.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -8,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <numeric>
 #include <optional>
 #include <thread>
 
@@ -73,6 +77,56 @@ json machine_json() {
           {"cores", int(std::thread::hardware_concurrency())},
           {"os", file_field("/etc/os-release", "PRETTY_NAME", '=')},
           {"compiler", std::string("GCC ") + __VERSION__}};
+}
+
+// How busy the machine was, so that a figure taken while other processes ran can be told
+// from a quiet one: the 1-minute load average, and CPU seconds (all cores, from /proc/stat;
+// this process's, from its CPU clock) whose difference over a measurement is what others used.
+struct CpuUse {
+  double machine_busy_seconds = 0.0;
+  double own_seconds = 0.0;
+};
+
+double load_average() {
+  std::ifstream in("/proc/loadavg");
+  double load = 0.0;
+  return in >> load ? load : 0.0;
+}
+
+CpuUse cpu_use() {
+  CpuUse use;
+  timespec own{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &own);
+  use.own_seconds = double(own.tv_sec) + 1e-9 * double(own.tv_nsec);
+  std::ifstream in("/proc/stat");
+  std::string cpu;
+  // user nice system idle iowait irq softirq steal: busy is all but idle and iowait.
+  double ticks[8] = {};
+  if (in >> cpu && cpu == "cpu") {
+    for (double& t : ticks) in >> t;
+    const double busy = ticks[0] + ticks[1] + ticks[2] + ticks[5] + ticks[6] + ticks[7];
+    use.machine_busy_seconds = busy / double(sysconf(_SC_CLK_TCK));
+  }
+  return use;
+}
+
+// A figure is marked as taken under load when other processes kept more than this many
+// cores busy on average while it was measured.
+constexpr double kLoadedCores = 0.25;
+
+// Load figures of the warm renders, from `before` to now, `wall` seconds of them.
+void fill_load(json& record, double load_before, const CpuUse& before, double wall) {
+  const CpuUse after = cpu_use();
+  const double own = after.own_seconds - before.own_seconds;
+  const double others =
+      wall > 0.0
+          ? std::max(0.0, after.machine_busy_seconds - before.machine_busy_seconds - own) / wall
+          : 0.0;
+  record["load_before"] = load_before;
+  record["others_busy_cores"] = others;
+  record["under_load"] = others > kLoadedCores;
+  record["cpu_seconds"] = own;
+  record["wall_seconds"] = wall;
 }
 
 // The five section 6.2 constants of AccelParams or a Calibration (the same field names).
@@ -269,10 +323,13 @@ Measurement measure(const RunInfo& run, const Config& config, const std::string&
   result.image = std::move(first.image);
   std::vector<double> warm;
   RenderOutcome last;
+  const double load_before = load_average();
+  const CpuUse before = cpu_use();
   for (int r = 0; r < config.repetitions; ++r) {
     last = render_image(scene, *accel, config.camera, config.settings);
     warm.push_back(last.seconds);
   }
+  fill_load(record, load_before, before, std::accumulate(warm.begin(), warm.end(), 0.0));
   record["warm_seconds"] = warm;
   fill_times(record, median(warm), last.rays);
   fill_structure_figures(record, *accel, last);

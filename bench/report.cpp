@@ -19,6 +19,7 @@ namespace {
 constexpr const char* kNotRun = "—";
 constexpr const char* kNotMeasured = "n/a";
 constexpr const char* kCapMark = "†";
+constexpr const char* kLoadMark = "‡";
 
 // The structures the paper compared the 1D grid with (§7); its claim is about these.
 std::vector<std::string_view> paper_rivals() {
@@ -143,8 +144,10 @@ std::string count_text(double count) {
   return out;
 }
 
-std::string cap_mark(const json& record) {
-  return record_flag(record, "over_time_cap") ? kCapMark : "";
+// The marks a figure carries: † estimated over the time cap, ‡ taken under load.
+std::string figure_marks(const json& record) {
+  return std::string(record_flag(record, "over_time_cap") ? kCapMark : "") +
+         (record_flag(record, "under_load") ? kLoadMark : "");
 }
 
 // A figure of a record as a table cell: "—" without a record, "n/a" for null.
@@ -157,16 +160,16 @@ std::string cell(const json* record, const char* key,
 
 std::string relative_cell(const json* record) {
   const std::string text = cell(record, "relative_to_zero", fixed2);
-  return record && text != kNotMeasured ? text + cap_mark(*record) : text;
+  return record && text != kNotMeasured ? text + figure_marks(*record) : text;
 }
 
 // A record's speed in prose: relative to zero when known, else its seconds. The targets'
 // lines take 3 decimals so that a figure just short of a bound never prints as the bound.
 std::string speed_text(const json& record, const char* spec = "%.2f") {
   if (const auto relative = record_number(record, "relative_to_zero"))
-    return format(spec, *relative) + "×" + cap_mark(record);
+    return format(spec, *relative) + "×" + figure_marks(record);
   if (const auto seconds = record_number(record, "trace_seconds"))
-    return format("%.3g s", *seconds) + cap_mark(record);
+    return format("%.3g s", *seconds) + figure_marks(record);
   return kNotMeasured;
 }
 
@@ -319,7 +322,8 @@ std::string figure12_section(const json& records) {
       "(tracing and shading, the structure already built; median of the repetitions) divided "
       "by the zero-overhead method's on the same rays (§7), so 1.00 is the floor. "
       "— not run, n/a not measured, † over the time cap (one pass over a subset of the rows, "
-      "its time scaled up: an estimate, not a warm median), "
+      "its time scaled up: an estimate, not a warm median), ‡ taken while other processes kept "
+      "more than a quarter of a core busy (`others_busy_cores`), "
       "**bold** the fastest in its row. `bvh` is our plain scalar traversal (one ray at a "
       "time, no SIMD, no packets); `embree` is Intel Embree's SIMD BVH.\n\n"
       "### Primary and shadow rays, 1 thread, default settings\n\n" +
@@ -399,14 +403,22 @@ SceneCheck embree_check(const json& records, const std::string& scene) {
               " Mrays/s = " + format("%.3f", *ratio)};
 }
 
+// " (1.97 cores busy)": thread CPU time over wall time while a record's warm renders ran.
+std::string cores_used(const json& record) {
+  const auto cpu = record_number(record, "cpu_seconds");
+  const auto wall = record_number(record, "wall_seconds");
+  return cpu && wall && *wall > 0 ? format(" (%.2f cores busy)", *cpu / *wall) : "";
+}
+
 SceneCheck speedup_check(const json& records, const std::string& scene) {
   const json* one = find_record(records, {scene, "grid1d"});
   const json* two = find_record(records, {scene, "grid1d", "primary_shadow", "default", 2});
   const auto t1 = trace_time(one), t2 = trace_time(two);
   if (!t1 || !t2 || *t2 <= 0) return {scene, std::nullopt, "not measured at 1 and 2 threads"};
   const double speedup = *t1 / *t2;
-  return {scene, speedup >= kSpeedupTarget,
-          format("%.3f", speedup) + "×" + cap_mark(*one) + cap_mark(*two)};
+  return {
+      scene, speedup >= kSpeedupTarget,
+      format("%.3f", speedup) + "×" + figure_marks(*one) + figure_marks(*two) + cores_used(*two)};
 }
 
 SceneCheck calibration_check(const json& records, const std::string& scene) {

@@ -121,6 +121,16 @@ TEST_F(BenchRunTest, ExactStructuresAgreeWithTheReferenceAndZeroIsTheFloor) {
         EXPECT_LE(r["tests_per_ray"].get<double>(), 1.0);
       }
       EXPECT_EQ(r["warm_seconds"].size(), size_t(r["repetitions"].get<int>()));
+      // The warm renders' wall time is the sum of the repetitions; their CPU time is spent by
+      // at most the run's threads (plus the clocks' granularity).
+      const double wall = r["wall_seconds"], cpu = r["cpu_seconds"];
+      double sum = 0.0;
+      for (const json& seconds : r["warm_seconds"]) sum += seconds.get<double>();
+      EXPECT_DOUBLE_EQ(wall, sum);
+      EXPECT_LE(cpu, wall * r["threads"].get<double>() + 0.02) << r["accel"];
+      EXPECT_GE(r["others_busy_cores"].get<double>(), 0.0);
+      EXPECT_EQ(r["under_load"], r["others_busy_cores"].get<double>() > 0.25);
+      EXPECT_GE(r["load_before"].get<double>(), 0.0);
     }
 }
 

@@ -3,7 +3,6 @@
 #include <imgui.h>
 
 #include <algorithm>
-#include <ranges>
 #include <string_view>
 #include <type_traits>
 #include <variant>
@@ -25,11 +24,14 @@ bool viewable(const Structure& structure) {
 
 // The words of a choice row's value_name, "alternate|cost", as radio buttons over the enum.
 void choice_control(const ParamSpec& spec, AxisRule& value) {
-  int chosen = int(value), index = 0;
-  for (const auto word : std::views::split(spec.value_name, '|')) {
+  int chosen = int(value);
+  const std::string_view words = spec.value_name;
+  for (size_t start = 0, index = 0;; ++index) {
+    const size_t end = words.find('|', start);
     if (index) ImGui::SameLine();
-    const std::string label(word.begin(), word.end());
-    ImGui::RadioButton(label.c_str(), &chosen, index++);
+    ImGui::RadioButton(std::string(words.substr(start, end - start)).c_str(), &chosen, int(index));
+    if (end == std::string_view::npos) break;
+    start = end + 1;
   }
   value = AxisRule(chosen);
 }
