@@ -31,13 +31,14 @@ inline constexpr uint64_t kMaxMemoryBudget = uint64_t{1} << 40;
 // Each run echoes these into its stats.
 struct AccelParams {
   // Section 6.2 code timings, relative units: `gridscope calibrate` on the development
-  // machine (AVX-512 kernel; README "Performance" gives the runs) measured intcost 1 (5-6 ns
-  // a test), repcost 0.34-0.40, travcost 10-18, vertcost 9-14, subcost 23-31.
+  // machine (AVX-512 kernel; README "Calibration" gives the runs) measured intcost 1 (4-6 ns
+  // a test), repcost 0.34-0.48, travcost 10-18, vertcost 9-14, subcost 13-14 (the two
+  // latest runs; earlier ones gave 23-31).
   double intcost = 1.0;    // one ray/triangle test
   double repcost = 0.35;   // a mailbox-rejected repeat
   double travcost = 12.0;  // one step: a cell the walk looks at
   double vertcost = 10.0;  // initialising a ray in a subdivided voxel
-  double subcost = 25.0;   // sorting one triangle into a voxel's cells
+  double subcost = 13.0;   // sorting one triangle into a voxel's cells
   int max_granularity = 20;
   AxisRule axis = AxisRule::alternate;
   // Each structure's own limits; 0 means the structure's default (the registry lists them).
