@@ -66,6 +66,20 @@ void require(const std::string& command, const char* flag, const std::string& va
   if (value.empty()) throw UsageError(command + " needs " + flag);
 }
 
+// A command that writes one image of a scene (render, shot): checks its scene, --out and
+// structure flags, then runs `run` on a copy of the job and prints the image's path.
+template <class Job, class Run>
+Command image_command(const char* command, Job& job, const Words& words, Run run) {
+  job.scene = scene_argument(command, words.positionals);
+  require(command, "--out FILE.png", job.out_path);
+  check_structure(job.accel, words.flags, job.params);
+  return Command{[job, run] {
+    run(job);
+    std::printf("%s\n", job.out_path.c_str());
+    return 0;
+  }};
+}
+
 Command print(std::string text) {
   return {[text] {
     std::fputs(text.c_str(), stdout);
@@ -178,14 +192,7 @@ Parser render_parser() {
   };
   append(flags, structure_flags(job->params));
   return {std::move(flags), [job](const Words& words) {
-            job->scene = scene_argument("render", words.positionals);
-            require("render", "--out FILE.png", job->out_path);
-            check_structure(job->accel, words.flags, job->params);
-            return Command{[job = *job] {
-              run_render(job);
-              std::printf("%s\n", job.out_path.c_str());
-              return 0;
-            }};
+            return image_command("render", *job, words, [](const RenderJob& j) { run_render(j); });
           }};
 }
 
@@ -204,16 +211,8 @@ Parser shot_parser() {
       accel_flag(job->accel),
   };
   append(flags, structure_flags(job->params));
-  return {std::move(flags), [job](const Words& words) {
-            job->scene = scene_argument("shot", words.positionals);
-            require("shot", "--out FILE.png", job->out_path);
-            check_structure(job->accel, words.flags, job->params);
-            return Command{[job = *job] {
-              run_shot(job);
-              std::printf("%s\n", job.out_path.c_str());
-              return 0;
-            }};
-          }};
+  return {std::move(flags),
+          [job](const Words& words) { return image_command("shot", *job, words, run_shot); }};
 }
 
 Parser view_parser() {
