@@ -139,6 +139,10 @@ Parser trace_parser() {
                "traces the rays N times: the first pass builds lazily and gives the counters, "
                "the median of the others is reported as warm",
                1, 1000, job->repeat),
+      int_flag("--packets",
+               "traces N rays at a time, walked together by a structure that can (grid1d): N "
+               "consecutive rays, or with --sample-image tiles of N pixels (N a square)",
+               2, int(Accelerator::kMaxPacketRays), job->packets),
       {"--walk", "I",
        "re-traces ray I after the run with the traversal's recorder (grid1d; needs --walk-out)",
        [&walk_ray = job->walk_ray](const std::string& v) {

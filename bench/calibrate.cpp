@@ -263,9 +263,11 @@ constexpr int kRaysPerScenario = 2048;
 std::vector<Scenario> make_scenarios(std::mt19937_64& rng) {
   std::vector<Scenario> scenarios;
   const auto root_cells = [](const Grid1D& grid) { return double(grid.voxel(0).granularity); };
-  // One leaf (max granularity 1: nothing is cut) of n triangles, the root: n tests per ray.
+  // One leaf (max granularity 1: nothing is cut) of n panels (and the two end triangles),
+  // the root: n tests per ray. Panels, because the leaf loop tests only triangles whose box
+  // the ray crosses: a test is a box test and a kernel test.
   for (const int n : {8, 64, 512})
-    scenarios.push_back({"tests, leaf of " + std::to_string(n), cell_row(n, 1, 0, 0),
+    scenarios.push_back({"tests, leaf of " + std::to_string(n), cell_row(n, n, 1, 0),
                          shaping_params(1, 0), rays_along_row(n, kRaysPerScenario, rng), kTestTerm,
                          [n](const Grid1D&) { return double(n); }});
   // The row cut into its cells, every other one holding a panel: a step per panel.

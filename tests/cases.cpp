@@ -181,6 +181,7 @@ std::string describe(const StructureRun& run) {
   if (p.density != defaults.density) text << " density=" << p.density;
   if (p.memory_budget != defaults.memory_budget) text << " budget=" << p.memory_budget;
   if (run.sample) text << " sampled every " << p.sample_every;
+  if (run.packet > 0) text << ", packets of " << run.packet;
   text << ", " << run.threads << (run.threads == 1 ? " thread" : " threads");
   return text.str();
 }
@@ -197,7 +198,8 @@ size_t disagreements(const Scene& scene, const std::vector<Ray>& rays,
   size_t bad = 0;
   for (const StructureRun& run : runs) {
     const auto accel = build_structure(run, scene, rays);
-    bad += count_mismatches(describe(run), trace_all(*accel, rays, run.threads), expected);
+    bad += count_mismatches(describe(run), trace_all(*accel, rays, run.threads, false, run.packet),
+                            expected);
   }
   return bad;
 }
@@ -213,7 +215,7 @@ size_t expect_brute_answers(const std::vector<BruteCase>& cases, const Structure
   size_t checked = 0;
   for (const BruteCase& c : cases) {
     const auto accel = build_structure(run, c.scene, c.rays);
-    const std::vector<Hit> hits = trace_all(*accel, c.rays, run.threads, any_hit);
+    const std::vector<Hit> hits = trace_all(*accel, c.rays, run.threads, any_hit, run.packet);
     const size_t bad = any_hit ? count_any_hit_mismatches(c.rays, hits, c.expected)
                                : count_mismatches(c.name + ", " + describe(run), hits, c.expected);
     EXPECT_EQ(bad, 0u) << c.name;

@@ -19,6 +19,7 @@ struct StructureRun {
   bool sample = false;   // run the sampling pass (§6.5) over the traced rays first
   bool eager = false;    // build everything before tracing (--eager)
   int threads = 1;       // tracing threads
+  size_t packet = 0;     // rays per packet (Accelerator::trace_packet); 0: one at a time
 };
 
 // make_accelerator and build, then as `trace` does: the sampling pass over every

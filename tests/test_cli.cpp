@@ -192,12 +192,31 @@ TEST(Cli, StatsHoldEveryKey) {
           " --intcost 3.5 --memory-budget 64M --axis cost --sample-every 5");
   ASSERT_EQ(result.status, 0) << result.err;
   const nlohmann::json json = nlohmann::json::parse(slurp(stats));
-  for (const char* key :
-       {"accel", "parameters", "scene", "triangles", "degenerate_triangles", "rays",
-        "build_seconds", "lazy_build_seconds", "trace_seconds", "rays_per_second", "nodes",
-        "voxels_subdivided", "leaves", "traversal_states", "intersection_tests",
-        "mailbox_rejections", "traversal_steps", "memory_bytes", "voxels_over_budget"})
+  for (const char* key : {"accel",
+                          "parameters",
+                          "scene",
+                          "triangles",
+                          "degenerate_triangles",
+                          "rays",
+                          "build_seconds",
+                          "lazy_build_seconds",
+                          "trace_seconds",
+                          "rays_per_second",
+                          "nodes",
+                          "voxels_subdivided",
+                          "leaves",
+                          "traversal_states",
+                          "intersection_tests",
+                          "mailbox_rejections",
+                          "traversal_steps",
+                          "packets",
+                          "packet_fallback_rays",
+                          "packet_steps",
+                          "packet_active_fraction",
+                          "memory_bytes",
+                          "voxels_over_budget"})
     EXPECT_TRUE(json.contains(key)) << key;
+  EXPECT_TRUE(json["packets"].is_null());  // no --packets
   EXPECT_EQ(json["accel"], "brute");
   EXPECT_EQ(json["scene"], scene);
   EXPECT_EQ(json["triangles"], 2);
@@ -416,6 +435,38 @@ TEST(Cli, SampleImageNeedsTheImagesRays) {
   expect_failure(
       run(trace_args("builtin:pyramid", rays, temp_path("image.hits")) + " --sample-image 24"), 2,
       "--sample-image");
+}
+
+// --packets N gives the hits of single rays, byte for byte, as consecutive rays or as the
+// image's k x k tiles, and reports its packets; a structure without packet traversal, N out
+// of range, and N not a square with --sample-image are usage errors.
+TEST(Cli, PacketsGiveTheHitsOfSingleRays) {
+  const std::string rays = temp_path("packets.rays");
+  ASSERT_EQ(run("rays builtin:pyramid --size 40x24 --out " + quoted(rays)).status, 0);
+  const std::string single = temp_path("single.hits"), tiles = temp_path("tiles.hits"),
+                    rows = temp_path("rows.hits"), stats = temp_path("packets.json");
+  const std::string image = " --sample-image 40x24";
+  ASSERT_EQ(run(trace_args("builtin:pyramid", rays, single) + image).status, 0);
+  const Outcome tiled = run(trace_args("builtin:pyramid", rays, tiles) + image +
+                            " --packets 64 --stats " + quoted(stats));
+  ASSERT_EQ(tiled.status, 0) << tiled.err;
+  ASSERT_EQ(run(trace_args("builtin:pyramid", rays, rows) + " --packets 7").status, 0);
+  EXPECT_EQ(slurp(single).size(), 40u * 24u * 16u);
+  EXPECT_TRUE(slurp(single) == slurp(tiles));
+  EXPECT_TRUE(slurp(single) == slurp(rows));
+  const nlohmann::json json = nlohmann::json::parse(slurp(stats));
+  EXPECT_EQ(json["parameters"]["packets"], 64);
+  EXPECT_GT(json["packets"].get<uint64_t>(), 0u);
+  EXPECT_LE(json["packets"].get<uint64_t>(), 15u);  // 5 x 3 tiles of 8 x 8
+  EXPECT_GT(json["packet_steps"].get<uint64_t>(), 0u);
+  const double active = json["packet_active_fraction"].get<double>();
+  EXPECT_GT(active, 0.0);
+  EXPECT_LE(active, 1.0);
+  expect_failure(run(trace_args("builtin:pyramid", rays, rows) + " --packets 16 --accel bvh"), 2,
+                 "--packets");
+  expect_failure(run(trace_args("builtin:pyramid", rays, rows) + " --packets 65"), 2, "--packets");
+  expect_failure(run(trace_args("builtin:pyramid", rays, rows) + image + " --packets 10"), 2,
+                 "--packets");
 }
 
 // A camera at (0,0,5) looking down -z with a 90° vertical field of view: the centre of pixel

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <set>
+#include <span>
 
 #include "core/accel/grid1d/grid1d.h"
 #include "core/accel/walk.h"
@@ -28,13 +29,14 @@ const std::vector<Case>& cases() {
 }
 
 // A preset: grid1d with one maximum granularity and axis rule, lazy or eager, traced by one
-// thread or two; the two-thread presets run the sampling pass first, as the command line
-// does.
-test::StructureRun preset(int max_granularity, AxisRule axis, bool eager, int threads) {
+// thread or two, one ray at a time or in packets of consecutive rays; the two-thread presets
+// run the sampling pass first, as the command line does.
+test::StructureRun preset(int max_granularity, AxisRule axis, bool eager, int threads,
+                          size_t packet = 0) {
   AccelParams params;
   params.max_granularity = max_granularity;
   params.axis = axis;
-  return {"grid1d", params, threads == 2, eager, threads};
+  return {"grid1d", params, threads == 2, eager, threads, packet};
 }
 
 std::string preset_name(const testing::TestParamInfo<test::StructureRun>& info) {
@@ -44,6 +46,7 @@ std::string preset_name(const testing::TestParamInfo<test::StructureRun>& info) 
   name += p.params.axis == AxisRule::alternate ? "_alternate" : "_cost";
   name += p.eager ? "_eager" : "_lazy";
   name += "_t" + std::to_string(p.threads);
+  if (p.packet > 0) name += "_packets" + std::to_string(p.packet);
   return name;
 }
 
@@ -67,6 +70,12 @@ std::vector<test::StructureRun> presets() {
     for (AxisRule axis : {AxisRule::alternate, AxisRule::cost})
       for (bool eager : {false, true})
         for (int threads : {1, 2}) out.push_back(preset(g, axis, eager, threads));
+  // Packets: the camera rays go together; chords, axis-parallel and edge rays mostly diverge
+  // and fall back to single rays, within the same packets.
+  out.push_back(preset(20, AxisRule::alternate, false, 1, 64));
+  out.push_back(preset(20, AxisRule::cost, true, 2, 64));
+  out.push_back(preset(64, AxisRule::alternate, false, 2, 16));
+  out.push_back(preset(2, AxisRule::cost, false, 1, 8));
   return out;
 }
 
@@ -209,6 +218,76 @@ TEST(Grid1DWalk, RecordsTheCellsTheWalkLooksAt) {
   EXPECT_GT(hits, 100u);
   EXPECT_GT(multi_cell, 20u);
   RecordProperty("cells_recorded", int(cells));
+}
+
+// A packet whose rays all go one way walks together: a 64x64 view straight down onto the
+// sphere in its soup, in 8x8 tiles (the image's centre lines fall between tiles, so each
+// tile's rays share their direction signs, and z dominates every direction), gives brute's
+// answers with no ray falling back, and the packet steps carry several rays each; any-hit
+// answers keep the any-hit rule.
+TEST(Grid1DPackets, CoherentTilesWalkTogetherAndMatchBrute) {
+  const Scene scene = test::sphere_in_soup();
+  const Box box = scene.bounds();
+  const glm::vec3 centre = 0.5f * (box.lo + box.hi);
+  const float height = 2.0f * (box.hi.z - box.lo.z);
+  std::vector<Ray> tiled;  // 8x8 tiles, one after another
+  for (int ty = 0; ty < 64; ty += 8)
+    for (int tx = 0; tx < 64; tx += 8)
+      for (int y = ty; y < ty + 8; ++y)
+        for (int x = tx; x < tx + 8; ++x) {
+          Ray ray;
+          ray.origin = centre + glm::vec3(0.0f, 0.0f, height);
+          ray.dir = {0.25f * (float(x) + 0.5f - 32.0f) / 32.0f,
+                     0.25f * (float(y) + 0.5f - 32.0f) / 32.0f, -1.0f};
+          tiled.push_back(ray);
+        }
+  const std::vector<Hit> expected = test::brute_answers(scene, tiled);
+  size_t found = 0;
+  for (const Hit& hit : expected) found += hit.found();
+  ASSERT_GT(found, tiled.size() / 8);
+  Grid1D grid{AccelParams{}};
+  grid.build(scene);
+  const auto context = grid.make_context();
+  std::vector<Hit> hits(tiled.size()), any(tiled.size());
+  std::vector<uint64_t> keys(64);
+  for (size_t first = 0; first < tiled.size(); first += 64) {
+    const std::span<const Ray> packet(tiled.data() + first, 64);
+    grid.trace_packet(packet, keys, {hits.data() + first, 64}, false, *context);
+    grid.trace_packet(packet, keys, {any.data() + first, 64}, true, *context);
+  }
+  EXPECT_EQ(test::count_mismatches("packets of 64", hits, expected), 0u);
+  EXPECT_EQ(test::count_any_hit_mismatches(tiled, any, expected), 0u);
+  const TraceCounters& counters = context->counters;
+  EXPECT_EQ(counters.packet_fallback_rays, 0u);
+  EXPECT_GT(counters.packets, 0u);
+  EXPECT_GT(counters.packet_steps, 0u);
+  // More than one ray per step on average: the rays really went together.
+  EXPECT_GT(counters.packet_step_rays, 2 * counters.packet_steps);
+}
+
+// Rays going another way than the packet's first ray (another octant) are traced one by one:
+// of four rays through the one triangle, three along +z and one along -z, one falls back,
+// and each gets the single-ray answer (a hit at t 0.5 from either side).
+TEST(Grid1DPackets, RaysGoingAnotherWayFallBackToSingleRays) {
+  Grid1D grid{AccelParams{}};
+  grid.build(test::one_triangle());
+  std::vector<Ray> rays(4);
+  for (int i = 0; i < 4; ++i) {
+    rays[size_t(i)].origin = {0.1f + 0.05f * float(i), 0.2f, i == 2 ? 1.0f : -1.0f};
+    rays[size_t(i)].dir = {0.0f, 0.0f, i == 2 ? -2.0f : 2.0f};
+  }
+  const auto context = grid.make_context();
+  std::vector<Hit> hits(4);
+  const std::vector<uint64_t> keys(4);
+  grid.trace_packet(rays, keys, hits, false, *context);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_EQ(hits[size_t(i)], grid.intersect(rays[size_t(i)], *context)) << "ray " << i;
+    EXPECT_EQ(hits[size_t(i)].id, 0) << "ray " << i;
+    EXPECT_FLOAT_EQ(hits[size_t(i)].t, 0.5f) << "ray " << i;
+  }
+  EXPECT_EQ(context->counters.packets, 1u);
+  EXPECT_EQ(context->counters.packet_rays, 3u);
+  EXPECT_EQ(context->counters.packet_fallback_rays, 1u);
 }
 
 // Every ray that enters the scene box goes down through the (cut) root once, so the root's

@@ -5,6 +5,7 @@
 // structure, with each kernel, against brute force.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -71,8 +72,14 @@ TEST(LeafKernels, EveryLaneGivesTheScalarKernelsAnswerBitForBit) {
   const KernelCase c = kernel_case(7);
   std::vector<uint32_t> ids(c.triangles.size());
   for (uint32_t i = 0; i < ids.size(); ++i) ids[i] = i;
+  Scene scene;
+  for (const TriangleVerts& t : c.triangles) {
+    const auto first = uint32_t(scene.vertices.size());
+    scene.vertices.insert(scene.vertices.end(), {t.v0, t.v1, t.v2});
+    scene.triangles.push_back({first, first + 1, first + 2});
+  }
   LeafStore store(uint64_t{1} << 20);
-  const LeafView leaf = store.view(store.add(ids, c.triangles));
+  const LeafView leaf = store.view(store.add(ids, BuildInput(scene)));
   uint64_t lanes_checked = 0, hits = 0;
   for (const Isa isa : supported_isas()) {
     const Kernel kernel = kernel_for(isa);
@@ -102,6 +109,66 @@ TEST(LeafKernels, EveryLaneGivesTheScalarKernelsAnswerBitForBit) {
         }
       }
     }
+  }
+  EXPECT_GT(hits, 200u);
+  RecordProperty("lanes_checked", int(lanes_checked));
+}
+
+// The rays-in-lanes kernels (a packet's rays against one triangle) give, lane by lane, the
+// scalar kernel's answer bit for bit: rays grouped by axis order, each group against every
+// triangle, all lanes and every other lane.
+TEST(LeafKernels, RaysInLanesGiveTheScalarKernelsAnswerBitForBit) {
+  const KernelCase c = kernel_case(9);
+  std::vector<uint32_t> ids(c.triangles.size());
+  Scene scene;
+  for (uint32_t i = 0; i < ids.size(); ++i) {
+    ids[i] = i;
+    const TriangleVerts& t = c.triangles[i];
+    scene.vertices.insert(scene.vertices.end(), {t.v0, t.v1, t.v2});
+    scene.triangles.push_back({3 * i, 3 * i + 1, 3 * i + 2});
+  }
+  LeafStore store(uint64_t{1} << 20);
+  const LeafView leaf = store.view(store.add(ids, BuildInput(scene)));
+  std::vector<PreparedRay<KernelReal>> prepared;
+  for (const Ray& ray : c.rays) prepared.emplace_back(ray, 0.0);
+  uint64_t lanes_checked = 0, hits = 0;
+  for (const Isa isa : supported_isas()) {
+    const Kernel kernel = kernel_for(isa);
+    for (int kz = 0; kz < 3; ++kz)
+      for (const bool swapped : {false, true}) {
+        RayLanes lanes;
+        std::vector<size_t> ray_of;
+        for (size_t i = 0; i < prepared.size() && lanes.count < RayLanes::kMaxRays; ++i) {
+          const PreparedRay<KernelReal>& p = prepared[i];
+          if (p.kz != kz || (p.kx != (kz + 1) % 3) == swapped) continue;
+          if (lanes.count == 0) lanes.kx = p.kx, lanes.ky = p.ky, lanes.kz = p.kz;
+          lanes.add(p, c.rays[i].tmax);
+          ray_of.push_back(i);
+        }
+        if (lanes.count == 0) continue;
+        const uint64_t all = lanes.count == 64 ? ~uint64_t{0} : (uint64_t{1} << lanes.count) - 1;
+        for (uint32_t tri = 0; tri < leaf.count; ++tri)
+          for (const uint64_t mask : {all, all & 0x5555555555555555u}) {
+            RayHits out;
+            const uint64_t got = kernel.test_rays(leaf, tri, lanes, mask, out);
+            EXPECT_EQ(got & ~mask, 0u) << isa_name(isa);
+            for (uint32_t r = 0; r < lanes.count; ++r) {
+              if (!(mask >> r & 1)) continue;
+              const Ray& ray = c.rays[ray_of[r]];
+              const TriangleVerts& t = c.triangles[tri];
+              float th = 0.0f, u = 0.0f, v = 0.0f;
+              const bool expected =
+                  intersect_triangle(prepared[ray_of[r]], t.v0, t.v1, t.v2, ray.tmax, th, u, v);
+              ASSERT_EQ(bool(got >> r & 1), expected) << isa_name(isa) << " ray " << ray_of[r];
+              ++lanes_checked;
+              if (!expected) continue;
+              ++hits;
+              EXPECT_EQ(std::bit_cast<uint32_t>(out.t[r]), std::bit_cast<uint32_t>(th));
+              EXPECT_EQ(std::bit_cast<uint32_t>(out.u[r]), std::bit_cast<uint32_t>(u));
+              EXPECT_EQ(std::bit_cast<uint32_t>(out.v[r]), std::bit_cast<uint32_t>(v));
+            }
+          }
+      }
   }
   EXPECT_GT(hits, 200u);
   RecordProperty("lanes_checked", int(lanes_checked));
@@ -159,6 +226,54 @@ TEST(BoxTest, NeverReportsAMissForACrossing) {
     ASSERT_TRUE(crossed) << "box " << k;
   }
   EXPECT_GT(crossings, boxes_tested / 4);
+}
+
+// A packet's rays against one box, four at a time (RayBoxLanes), say for every ray what the
+// one-ray test (RayBoxes) says: rays with the same direction signs (zero and -0 components
+// among them, and rays from far away, which every box passes), each over its own segment.
+TEST(BoxTest, RaysInLanesAgreeWithOneRayAtATime) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f), positive(0.0f, 1.0f);
+  uint64_t agreed = 0, crossings = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    float soa[box_floats(4)] = {};
+    for (int a = 0; a < 3; ++a) {
+      const float x = unit(rng), y = unit(rng);
+      soa[a * 4] = std::min(x, y), soa[(a + 3) * 4] = std::max(x, y);
+    }
+    const glm::vec3 signs(trial & 1 ? -1.0f : 1.0f, trial & 2 ? -1.0f : 1.0f,
+                          trial & 4 ? -1.0f : 1.0f);
+    RayBoxLanes lanes;
+    std::vector<RayBoxes> one;
+    struct Segment {
+      __m128 t0, t1;
+    };
+    std::vector<Segment> segments;
+    for (uint32_t r = 0; r < 64; ++r) {
+      Ray ray;
+      ray.origin = {2.0f * unit(rng), 2.0f * unit(rng), 2.0f * unit(rng)};
+      ray.dir = signs * glm::vec3(positive(rng), positive(rng), positive(rng));
+      if (r % 9 == 0) ray.dir[r % 3] = signs[r % 3] * 0.0f;  // +0 or -0 with the sign
+      const bool cull = r % 17 != 0;
+      const __m128 t0 = _mm_set1_ps(r % 5 == 0 ? -1.0f : 0.0f);
+      const __m128 t1 = _mm_set1_ps(r % 7 == 0 ? 0.5f : 1e30f);
+      one.emplace_back(ray, cull);
+      segments.push_back({t0, t1});
+      lanes.set(r, one.back(), t0, t1);
+    }
+    const uint64_t mask = trial % 3 == 0 ? 0x0F0F00FF0000F0F1u : ~uint64_t{0};
+    const uint64_t got = lanes.crossed(soa, 4, 0, mask);
+    EXPECT_EQ(got & ~mask, 0u);
+    for (uint32_t r = 0; r < 64; ++r) {
+      if (!(mask >> r & 1)) continue;
+      const bool expected = one[r].crossed4(soa, 4, 0, segments[r].t0, segments[r].t1) & 1u;
+      EXPECT_EQ(bool(got >> r & 1), expected) << "trial " << trial << " ray " << r;
+      agreed += bool(got >> r & 1) == expected;
+      crossings += expected;
+    }
+  }
+  EXPECT_GT(crossings, agreed / 20);  // about one in ten rays crosses the box
+  EXPECT_LT(crossings, agreed);
 }
 
 // Every structure, with every kernel this CPU has, answers exactly what brute answers:

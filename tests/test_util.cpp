@@ -4,11 +4,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <glm/geometric.hpp>
+#include <numeric>
+#include <span>
 #include <sstream>
 #include <thread>
 
@@ -255,15 +258,26 @@ std::vector<Ray> edge_and_vertex_rays(const Scene& scene, uint32_t seed, int cou
 }
 
 std::vector<Hit> trace_all(const Accelerator& accel, const std::vector<Ray>& rays, int threads,
-                           bool any_hit) {
+                           bool any_hit, size_t packet) {
   std::vector<Hit> hits(rays.size());
+  const size_t group = std::max<size_t>(packet, 1);
   std::vector<std::thread> pool;
   for (int k = 0; k < threads; ++k)
     pool.emplace_back([&, k] {
       auto context = accel.make_context();
+      std::vector<uint64_t> keys;
       // Interleaved so that both threads reach unbuilt voxels at the same time.
-      for (size_t i = size_t(k); i < rays.size(); i += size_t(threads))
-        hits[i] = any_hit ? accel.any_hit(rays[i], *context) : accel.intersect(rays[i], *context);
+      for (size_t i = size_t(k) * group; i < rays.size(); i += size_t(threads) * group) {
+        if (packet == 0) {
+          hits[i] = any_hit ? accel.any_hit(rays[i], *context) : accel.intersect(rays[i], *context);
+          continue;
+        }
+        const size_t n = std::min(group, rays.size() - i);
+        keys.resize(n);
+        std::iota(keys.begin(), keys.end(), uint64_t(i));
+        accel.trace_packet(std::span(rays).subspan(i, n), keys, std::span(hits).subspan(i, n),
+                           any_hit, *context);
+      }
     });
   for (auto& t : pool) t.join();
   return hits;

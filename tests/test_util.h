@@ -89,8 +89,9 @@ std::vector<Ray> axis_parallel_rays(const Box& box, uint32_t seed, int count);
 // Rays from far away aimed exactly at triangle vertices and at points on triangle edges.
 std::vector<Ray> edge_and_vertex_rays(const Scene& scene, uint32_t seed, int count);
 
-// Traces every ray with `threads` threads, each with its own context.
+// Traces every ray with `threads` threads, each with its own context; with packet > 0, in
+// packets of `packet` consecutive rays (Accelerator::trace_packet).
 std::vector<Hit> trace_all(const Accelerator& accel, const std::vector<Ray>& rays, int threads,
-                           bool any_hit = false);
+                           bool any_hit = false, size_t packet = 0);
 
 }  // namespace gs::test

@@ -1,6 +1,7 @@
 #include "core/accel/accelerator.h"
 
 #include "core/accel/registry.h"
+#include "core/base/check.h"
 
 namespace gs {
 
@@ -21,6 +22,22 @@ void TraceCounters::add(const TraceCounters& other) {
   descents += other.descents;
   voxels_built += other.voxels_built;
   lazy_build_seconds += other.lazy_build_seconds;
+  packets += other.packets;
+  packet_rays += other.packet_rays;
+  packet_fallback_rays += other.packet_fallback_rays;
+  packet_steps += other.packet_steps;
+  packet_step_rays += other.packet_step_rays;
+  packet_step_slots += other.packet_step_slots;
+}
+
+void Accelerator::trace_packet(std::span<const Ray> rays, std::span<const uint64_t> keys,
+                               std::span<Hit> hits, bool any_hit, ThreadContext& context) const {
+  GRIDSCOPE_CHECK(rays.size() <= kMaxPacketRays && keys.size() == rays.size() &&
+                  hits.size() == rays.size());
+  for (size_t i = 0; i < rays.size(); ++i) {
+    context.ray_index = keys[i];
+    hits[i] = any_hit ? this->any_hit(rays[i], context) : intersect(rays[i], context);
+  }
 }
 
 void Accelerator::sample(std::span<const Ray>, double, const SpawnRays&) {}

@@ -28,6 +28,14 @@ struct TraceCounters {
   uint64_t descents = 0;            // set-ups in a subdivided voxel (grid1d: §6.2's Vertcost)
   uint64_t voxels_built = 0;        // voxels this thread examined (cut or made leaves) lazily
   double lazy_build_seconds = 0.0;  // time this thread spent building voxels
+  // Packet traversal (Accelerator::trace_packet; only structures that walk rays together
+  // count these).
+  uint64_t packets = 0;               // packets walked together
+  uint64_t packet_rays = 0;           // rays in them
+  uint64_t packet_fallback_rays = 0;  // rays traced one at a time: they diverged from the packet
+  uint64_t packet_steps = 0;          // cells a packet stepped into together
+  uint64_t packet_step_rays = 0;      // rays active in those steps, summed
+  uint64_t packet_step_slots = 0;     // rays of the packet in those steps, summed
 
   void add(const TraceCounters& other);
 };
@@ -94,6 +102,15 @@ class Accelerator {
   // Some hit with tmin < t <= tmax (not necessarily the nearest), or a miss; the walk stops
   // at the first one found. Shadow rays and `trace --occluded`.
   virtual Hit any_hit(const Ray& ray, ThreadContext& context) const = 0;
+  // The most rays trace_packet takes at once.
+  static constexpr size_t kMaxPacketRays = 64;
+  // Traces up to kMaxPacketRays rays, hits[i] being exactly what intersect (with `any_hit`:
+  // any_hit) answers for rays[i]; keys[i] is ray i's ThreadContext::ray_index. Coherent
+  // rays (a tile's primary rays, or their shadow rays toward one light) walk a structure
+  // with a packet traversal (traces_packets) together; the others trace them one by one.
+  virtual void trace_packet(std::span<const Ray> rays, std::span<const uint64_t> keys,
+                            std::span<Hit> hits, bool any_hit, ThreadContext& context) const;
+  virtual bool traces_packets() const { return false; }
   bool occluded(const Ray& ray, ThreadContext& context) const {
     return any_hit(ray, context).found();
   }

@@ -118,7 +118,7 @@ struct Bvh::Builder {
   void make_leaf(uint32_t node, uint32_t begin, uint32_t end) {
     std::vector<uint32_t> leaf(ids.begin() + begin, ids.begin() + end);
     for (uint32_t& id : leaf) id |= kOnlyHere;
-    bvh.nodes_[node].first = bvh.leaves_.add(leaf, verts);
+    bvh.nodes_[node].first = bvh.leaves_.add(leaf, bvh.input_);
     bvh.nodes_[node].count = end - begin;
     ++bvh.leaves_count_;
   }
@@ -163,7 +163,9 @@ void Bvh::build(const Scene& scene) {
   input_ = BuildInput(scene);
   nodes_.clear(), leaves_count_ = over_budget_ = deepest_ = 0;
   // Every triangle is stored once, in at most one leaf per triangle.
-  leaves_.reset(2 * LeafStore::bytes_for(uint32_t(input_.usable.size())));
+  // At worst every triangle is a leaf of its own.
+  const auto usable = uint32_t(input_.usable.size());
+  leaves_.reset(LeafStore::bytes_for(usable) + uint64_t(usable) * LeafStore::bytes_for(0));
   const std::vector<TriangleVerts>& verts = input_.triangles;
   Builder builder{*this, std::vector<DBox>(verts.size()), {}, input_.usable, verts};
   builder.centroids.resize(verts.size());
@@ -278,7 +280,7 @@ Hit Bvh::trace(const Ray& ray, MailboxContext& context) const {
     const Node& node = nodes_[e.node];
     ++counters.traversal_steps;
     if (node.count > 0) {
-      if (test_leaf<AnyHit>(leaves_.view(node.first), kernel_, prepared, ray_id, tmax, best,
+      if (test_leaf<AnyHit>(leaves_.view(node.first), kernel_, prepared, {}, ray_id, tmax, best,
                             context.mailbox, counters)) {
         if (AnyHit) return best;
         limit = limit_of(tmax);

@@ -171,8 +171,8 @@ bool NestedGrid::walk(uint32_t grid_id, double t_cur, int entered_axis, RayWalk&
 template <bool AnyHit>
 bool NestedGrid::test_cell(const Cell& cell, RayWalk& w, MailboxContext& context) const {
   return cell.ref_count > 0 &&
-         test_leaf<AnyHit>(leaves_.view(cell.leaf), kernel_, *w.prepared, w.ray_id, w.tmax, w.best,
-                           context.mailbox, context.counters);
+         test_leaf<AnyHit>(leaves_.view(cell.leaf), kernel_, *w.prepared, {}, w.ray_id, w.tmax,
+                           w.best, context.mailbox, context.counters);
 }
 
 // The lazy build of one cell (docs/design.md §1.7): the thread that wins the CAS
@@ -336,7 +336,7 @@ bool NestedGrid::commit(const Plan& plan, uint32_t depth, uint32_t& grid_id) con
       for (int a = 0; a < 3; ++a) inside &= box[a] >= lo[a] && box[a + 3] <= hi[a];
       if (inside) id |= kOnlyHere;
     }
-    cell.leaf = leaves_.add(ids, input_.triangles);
+    cell.leaf = leaves_.add(ids, input_);
     if (cell.leaf == LeafStore::kFull) return false;
   }
   grid_id = uint32_t(g);

@@ -98,7 +98,7 @@ uint32_t Octree::make_leaf(int depth, const uint32_t lo[3], const std::vector<ui
     for (int a = 0; a < 3; ++a) inside &= box[a] >= cell_lo[a] && box[a + 3] <= cell_hi[a];
     if (inside) id |= kOnlyHere;
   }
-  return leaves_.add(ids, input_.triangles);
+  return leaves_.add(ids, input_);
 }
 
 // Sorts the node's triangles into its 8 children by padded box overlap with the children's
@@ -212,7 +212,7 @@ Hit Octree::trace(const Ray& ray, MailboxContext& context) const {
     const Located leaf = locate(fine);
     ++leaves;
     const Node& node = nodes_[leaf.node];
-    if (node.count > 0 && test_leaf<AnyHit>(leaves_.view(node.first), kernel_, prepared, ray_id,
+    if (node.count > 0 && test_leaf<AnyHit>(leaves_.view(node.first), kernel_, prepared, {}, ray_id,
                                             tmax, best, context.mailbox, context.counters)) {
       if (AnyHit) break;
       stop = line.stop(tmax);

@@ -176,7 +176,7 @@ void UniformGrid::fill_cells() {
   for (size_t c = 0; c < counts.size(); ++c) {
     if (counts[c] == 0) continue;
     ids.assign(flat.begin() + int64_t(offsets[c]), flat.begin() + int64_t(offsets[c + 1]));
-    cell_leaf_[c] = leaves_.add(ids, input_.triangles);
+    cell_leaf_[c] = leaves_.add(ids, input_);
   }
 }
 
@@ -222,8 +222,8 @@ Hit UniformGrid::trace(const Ray& ray, MailboxContext& context) const {
   uint64_t steps = 0;
   for (;;) {
     const uint32_t leaf = cell_leaf_[index];
-    if (leaf != kEmptyCell && test_leaf<AnyHit>(leaves_.view(leaf), kernel_, prepared, ray_id, tmax,
-                                                best, context.mailbox, context.counters)) {
+    if (leaf != kEmptyCell && test_leaf<AnyHit>(leaves_.view(leaf), kernel_, prepared, {}, ray_id,
+                                                tmax, best, context.mailbox, context.counters)) {
       if (AnyHit) break;
       stop = line.stop(tmax);
     }

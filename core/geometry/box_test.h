@@ -7,6 +7,7 @@
 #pragma once
 #include <emmintrin.h>
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
 
@@ -26,6 +27,25 @@ inline constexpr float kSlabGamma = 1.7881409e-7f;
 // on.
 inline constexpr uint32_t box_stride(uint32_t count) { return (count + 3) & ~3u; }
 inline constexpr uint32_t box_floats(uint32_t count) { return 6 * box_stride(count) + 4; }
+
+// The slab test in four lanes, each a ray and a box (their near and far faces per axis):
+// whether the ray crosses the box somewhere in [t0, t1].
+inline uint32_t slab_test4(const __m128 near_face[3], const __m128 far_face[3],
+                           const __m128 origin[3], const __m128 inv_dir[3], __m128 t0, __m128 t1) {
+  const __m128 outward_size = _mm_set1_ps(3 * kSlabGamma), one = _mm_set1_ps(1.0f),
+               sign = _mm_set1_ps(-0.0f);
+  __m128 entry = t0, exit = t1;
+  for (int a = 0; a < 3; ++a) {
+    const __m128 t_near = _mm_mul_ps(_mm_sub_ps(near_face[a], origin[a]), inv_dir[a]);
+    const __m128 exact_far = _mm_mul_ps(_mm_sub_ps(far_face[a], origin[a]), inv_dir[a]);
+    const __m128 outward = _mm_or_ps(_mm_and_ps(exact_far, sign), outward_size);
+    const __m128 t_far = _mm_mul_ps(exact_far, _mm_add_ps(one, outward));
+    // maxps / minps return their second operand when either is NaN: NaN lanes drop out.
+    entry = _mm_max_ps(t_near, entry);
+    exit = _mm_min_ps(t_far, exit);
+  }
+  return uint32_t(_mm_movemask_ps(_mm_cmple_ps(entry, exit)));
+}
 
 // The ray as the box test reads it, per axis in all four lanes. A zero direction component
 // gives 1 / dir = inf, and a face the origin lies on 0 * inf = NaN, which the test's max/min
@@ -51,21 +71,56 @@ struct RayBoxes {
   // [t0, t1] (all four lanes). Callers mask off boxes past the ones they asked about.
   uint32_t crossed4(const float* boxes, uint32_t stride, uint32_t first, __m128 t0,
                     __m128 t1) const {
-    const __m128 outward_size = _mm_set1_ps(3 * kSlabGamma), one = _mm_set1_ps(1.0f),
-                 sign = _mm_set1_ps(-0.0f);
-    __m128 entry = t0, exit = t1;
+    __m128 near_face[3], far_face[3];
     for (int a = 0; a < 3; ++a) {
-      const __m128 near_face = _mm_loadu_ps(boxes + near_array[a] * stride + first);
-      const __m128 far_face = _mm_loadu_ps(boxes + far_array[a] * stride + first);
-      const __m128 t_near = _mm_mul_ps(_mm_sub_ps(near_face, origin[a]), inv_dir[a]);
-      const __m128 exact_far = _mm_mul_ps(_mm_sub_ps(far_face, origin[a]), inv_dir[a]);
-      const __m128 outward = _mm_or_ps(_mm_and_ps(exact_far, sign), outward_size);
-      const __m128 t_far = _mm_mul_ps(exact_far, _mm_add_ps(one, outward));
-      // maxps / minps return their second operand when either is NaN: NaN lanes drop out.
-      entry = _mm_max_ps(t_near, entry);
-      exit = _mm_min_ps(t_far, exit);
+      near_face[a] = _mm_loadu_ps(boxes + near_array[a] * stride + first);
+      far_face[a] = _mm_loadu_ps(boxes + far_array[a] * stride + first);
     }
-    return uint32_t(_mm_movemask_ps(_mm_cmple_ps(entry, exit)));
+    return slab_test4(near_face, far_face, origin, inv_dir, t0, t1);
+  }
+};
+
+// Up to 64 rays with the same direction signs (so the same near and far faces) against one
+// box at a time, four rays in lanes: RayBoxes' test with the roles swapped, for a packet's
+// rays in a leaf (docs/design.md §6.9). Arrays padded for a 4-lane read from any ray on.
+struct RayBoxLanes {
+  static constexpr uint32_t kPadded = 64 + 4;
+  alignas(16) float origin[3][kPadded] = {}, inv_dir[3][kPadded] = {};
+  alignas(16) float t0[kPadded] = {}, t1[kPadded] = {};
+  uint32_t near_array[3] = {0, 1, 2}, far_array[3] = {3, 4, 5};
+
+  // Sets ray `lane` to `ray` searching [t_lo, t_hi] (the same lanes of each).
+  void set(uint32_t lane, const RayBoxes& ray, __m128 t_lo, __m128 t_hi) {
+    for (int a = 0; a < 3; ++a) {
+      origin[a][lane] = _mm_cvtss_f32(ray.origin[a]),
+      inv_dir[a][lane] = _mm_cvtss_f32(ray.inv_dir[a]);
+      near_array[a] = ray.near_array[a], far_array[a] = ray.far_array[a];
+    }
+    t0[lane] = _mm_cvtss_f32(t_lo), t1[lane] = _mm_cvtss_f32(t_hi);
+  }
+  // A new end for ray `lane`'s segment (its nearest hit moved in).
+  void set_end(uint32_t lane, __m128 t_hi) { t1[lane] = _mm_cvtss_f32(t_hi); }
+  // Of the rays in `rays` (bits), those that cross box `box` of `boxes`: four at a time,
+  // only the fours that hold one of them.
+  uint64_t crossed(const float* boxes, uint32_t stride, uint32_t box, uint64_t rays) const {
+    __m128 near_face[3], far_face[3];
+    for (int a = 0; a < 3; ++a) {
+      near_face[a] = _mm_set1_ps(boxes[near_array[a] * stride + box]);
+      far_face[a] = _mm_set1_ps(boxes[far_array[a] * stride + box]);
+    }
+    uint64_t met = 0;
+    const uint64_t asked = rays;
+    while (rays != 0) {
+      const uint32_t first = uint32_t(std::countr_zero(rays)) & ~3u;
+      __m128 o[3], inv[3];
+      for (int a = 0; a < 3; ++a)
+        o[a] = _mm_load_ps(origin[a] + first), inv[a] = _mm_load_ps(inv_dir[a] + first);
+      met |= uint64_t(slab_test4(near_face, far_face, o, inv, _mm_load_ps(t0 + first),
+                                 _mm_load_ps(t1 + first)))
+             << first;
+      rays &= ~(uint64_t{15} << first);
+    }
+    return met & asked;
   }
 };
 

@@ -1,35 +1,54 @@
 #include "core/geometry/leaf.h"
 
 #include <cstdlib>
+#include <limits>
 #include <mutex>
 
 #include "core/base/error.h"
+#include "core/geometry/clip_box.h"
 #include "core/geometry/simd.h"
 
 namespace gs {
 
-LeafStore::LeafStore(uint64_t max_bytes) : ids_(max_bytes / 10), coords_(max_bytes / 10 * 9) {}
+// Per triangle a leaf takes 4 bytes of ids and 60 of floats; per leaf at most 8 bytes of
+// header and 88 of box padding: the id arena never needs more than 1/12 of the bytes, the
+// float arena never more than 15/16.
+LeafStore::LeafStore(uint64_t max_bytes) : ids_(max_bytes / 12), coords_(max_bytes / 16 * 15) {}
 
 void LeafStore::reset(uint64_t max_bytes) {
-  ids_.reset(max_bytes / 10);
-  coords_.reset(max_bytes / 10 * 9);
+  ids_.reset(max_bytes / 12);
+  coords_.reset(max_bytes / 16 * 15);
 }
 
-uint32_t LeafStore::add(const std::vector<uint32_t>& ids,
-                        const std::vector<TriangleVerts>& triangles) {
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+uint32_t LeafStore::add(const std::vector<uint32_t>& ids, const BuildInput& input) {
   const auto n = uint32_t(ids.size());
-  const size_t handle = ids_.append(size_t(n) + 1);
-  if (handle == SIZE_MAX || handle >= kFull || !coords_.construct(9 * handle, 9 * (size_t(n) + 1)))
-    return kFull;
-  ids_[handle] = n;
-  float* coords = &coords_[9 * (handle + 1)];
+  const size_t handle = ids_.append(size_t(n) + 2);
+  if (handle == SIZE_MAX || handle >= kFull) return kFull;
+  const size_t floats = coords_.append(size_t(9) * n + box_floats(n));
+  if (floats == SIZE_MAX || floats > UINT32_MAX) return kFull;
+  ids_[handle] = n, ids_[handle + 1] = uint32_t(floats);
+  float* coords = &coords_[floats];
+  float* boxes = coords + size_t(9) * n;
+  const uint32_t stride = box_stride(n);
   for (uint32_t i = 0; i < n; ++i) {
-    ids_[handle + 1 + i] = ids[i];
-    const TriangleVerts& t = triangles[ids[i] & ~kOnlyHere];
+    const uint32_t id = ids[i] & ~kOnlyHere;
+    ids_[handle + 2 + i] = ids[i];
+    const TriangleVerts& t = input.triangles[id];
     const glm::vec3* corners[3] = {&t.v0, &t.v1, &t.v2};
     for (int k = 0; k < 3; ++k)
       for (int a = 0; a < 3; ++a) coords[size_t(3 * k + a) * n + i] = (*corners[k])[a];
+    const double* box = input.box(id);
+    for (int a = 0; a < 3; ++a) {
+      boxes[a * stride + i] = float_down(box[a]);
+      boxes[(a + 3) * stride + i] = float_up(box[a + 3]);
+    }
   }
+  // Lanes past the last triangle read empty boxes, which no ray crosses.
+  for (uint32_t i = n; i < stride; ++i)
+    for (int a = 0; a < 3; ++a)
+      boxes[a * stride + i] = kInfinity, boxes[(a + 3) * stride + i] = -kInfinity;
   return uint32_t(handle);
 }
 
@@ -41,6 +60,19 @@ uint32_t test_lanes_scalar(const LeafView& leaf, uint32_t first, uint32_t lanes,
     if (intersect_triangle(ray, leaf.corner(i, 0), leaf.corner(i, 1), leaf.corner(i, 2), leaf.count,
                            tmax, out.t[j], out.u[j], out.v[j]))
       hits |= 1u << j;
+  }
+  return hits;
+}
+
+uint64_t test_rays_scalar(const LeafView& leaf, uint32_t tri, const RayLanes& rays, uint64_t lanes,
+                          RayHits& out) {
+  uint64_t hits = 0;
+  for (; lanes != 0; lanes &= lanes - 1) {
+    const auto r = uint32_t(std::countr_zero(lanes));
+    if (intersect_triangle(*rays.prepared[r], leaf.corner(tri, 0), leaf.corner(tri, 1),
+                           leaf.corner(tri, 2), leaf.count, rays.tmax[r], out.t[r], out.u[r],
+                           out.v[r]))
+      hits |= uint64_t{1} << r;
   }
   return hits;
 }
@@ -112,13 +144,13 @@ void force_kernel_isa(Isa isa) {
 Kernel kernel_for(Isa isa) {
   switch (isa) {
     case Isa::avx2:
-      return {4, test_lanes_avx2};
+      return {4, test_lanes_avx2, test_rays_avx2};
     case Isa::avx512:
-      return {8, test_lanes_avx512};
+      return {8, test_lanes_avx512, test_rays_avx512};
     case Isa::scalar:
       break;
   }
-  return {1, test_lanes_scalar};
+  return {1, test_lanes_scalar, test_rays_scalar};
 }
 
 }  // namespace gs

@@ -12,6 +12,7 @@
 #include "core/accel/accelerator.h"
 #include "core/base/check.h"
 #include "core/base/stable_array.h"
+#include "core/geometry/box_test.h"
 #include "core/geometry/kernel.h"
 #include "core/geometry/mailbox.h"
 #include "core/geometry/triangles.h"
@@ -23,11 +24,15 @@ namespace gs {
 inline constexpr uint32_t kOnlyHere = 1u << 31;
 
 // One leaf: triangle i's corner k (0..2), axis a (0..2) is coords[(3k + a) * count + i];
-// ids[i] is its id, with kOnlyHere possibly set.
+// ids[i] is its id, with kOnlyHere possibly set. `boxes` (when not null) holds the
+// triangles' padded boxes rounded outward to float, in box_test.h's layout (stride
+// box_stride(count)): a ray whose segment misses a triangle's box cannot be reported a hit
+// by the kernel (docs/design.md §6.7), so the leaf loop skips the test.
 struct LeafView {
   const float* coords = nullptr;
   const uint32_t* ids = nullptr;
   uint32_t count = 0;
+  const float* boxes = nullptr;
 
   uint32_t id(uint32_t i) const { return ids[i] & ~kOnlyHere; }
   const float* corner(uint32_t i, int k) const { return coords + size_t(3 * k) * count + i; }
@@ -35,8 +40,8 @@ struct LeafView {
 
 // Leaves appended by one or more building threads, never moved (readers may be walking
 // others while a leaf is added). A leaf's handle is its position in the id arena, which
-// holds its count and then its ids; the coordinate arena grows in lockstep (9 floats per id
-// slot): the leaf's coordinates from 9 * (handle + 1).
+// holds its count, where its floats start in the float arena, and its ids; its floats are
+// its coordinates and then its triangles' boxes.
 class LeafStore {
  public:
   // Address space for `max_bytes` of leaves (reserved, committed as leaves are written).
@@ -45,16 +50,22 @@ class LeafStore {
   // knows what its leaves take before it stores them. Only while nobody reads the store.
   void reset(uint64_t max_bytes);
   // Appends a leaf of the triangles `ids` (each with kOnlyHere where it applies; corners
-  // from `triangles`) and returns its handle, or kFull when the reservation is spent.
+  // and padded boxes from `input`) and returns its handle, or kFull when the reservation is
+  // spent.
   static constexpr uint32_t kFull = UINT32_MAX;
-  uint32_t add(const std::vector<uint32_t>& ids, const std::vector<TriangleVerts>& triangles);
+  uint32_t add(const std::vector<uint32_t>& ids, const BuildInput& input);
   LeafView view(uint32_t handle) const {
-    GRIDSCOPE_CHECK(size_t(handle) < ids_.size());
-    return {&coords_[9 * (size_t(handle) + 1)], &ids_[size_t(handle) + 1], ids_[handle]};
+    GRIDSCOPE_CHECK(size_t(handle) + 1 < ids_.size());
+    const uint32_t count = ids_[handle];
+    const float* coords = &coords_[ids_[size_t(handle) + 1]];
+    return {coords, &ids_[size_t(handle) + 2], count, coords + size_t(9) * count};
   }
-  // Bytes one leaf of n triangles takes.
-  static uint64_t bytes_for(uint32_t n) { return uint64_t(n + 1) * 10 * sizeof(float); }
-  uint64_t bytes() const { return ids_.size() * 10 * sizeof(float); }
+  // At most the bytes one leaf of n triangles takes: its count, offset and ids, its
+  // coordinates, and its boxes (box_floats(n) <= 6n + 22).
+  static uint64_t bytes_for(uint32_t n) {
+    return uint64_t(n + 2) * sizeof(uint32_t) + (uint64_t(n) * 15 + 22) * sizeof(float);
+  }
+  uint64_t bytes() const { return ids_.size() * sizeof(uint32_t) + coords_.size() * sizeof(float); }
 
  private:
   StableArray<uint32_t> ids_;
@@ -85,9 +96,46 @@ struct LaneHits {
 // lane's figures are the scalar intersect_triangle's, bit for bit.
 using LaneTest = uint32_t (*)(const LeafView& leaf, uint32_t first, uint32_t lanes,
                               const PreparedRay<KernelReal>& ray, float tmax, LaneHits& out);
+
+// A packet's rays in the form the rays-in-lanes kernels read (structure of arrays of their
+// PreparedRay figures), all with the same axis order kx, ky, kz; each array padded so that a
+// kMaxLanes-wide read from any ray on stays inside it.
+struct RayLanes {
+  static constexpr uint32_t kMaxRays = 64;
+  static constexpr uint32_t kPadded = kMaxRays + kMaxLanes;
+  uint32_t count = 0;
+  int kx = 0, ky = 0, kz = 0;
+  alignas(64) double ox[kPadded] = {}, oy[kPadded] = {}, oz[kPadded] = {};
+  alignas(64) double sx[kPadded] = {}, sy[kPadded] = {}, sz[kPadded] = {};
+  alignas(64) double shift[kPadded] = {};
+  alignas(64) float tmin[kPadded] = {}, tmax[kPadded] = {};  // tmax: the ray's nearest hit so far
+  const PreparedRay<KernelReal>* prepared[kMaxRays] = {};    // for lanes done by the scalar kernel
+
+  // Appends a ray (whose axis order must be kx, ky, kz) searching up to tmax.
+  void add(const PreparedRay<KernelReal>& ray, float ray_tmax) {
+    ox[count] = ray.origin[kx], oy[count] = ray.origin[ky], oz[count] = ray.origin[kz];
+    sx[count] = ray.sx, sy[count] = ray.sy, sz[count] = ray.sz;
+    shift[count] = ray.shift, tmin[count] = ray.tmin, tmax[count] = ray_tmax;
+    prepared[count++] = &ray;
+  }
+};
+
+// What a RayTest reports for a packet's rays.
+struct RayHits {
+  alignas(64) float t[RayLanes::kPadded], u[RayLanes::kPadded], v[RayLanes::kPadded];
+};
+
+// Tests triangle `tri` of `leaf` against the rays of `rays` whose bit is set in `lanes`,
+// several at a time (rays in lanes), each up to its own tmax, and returns the bits of those
+// hit with their t, u and v in `out`: what LaneTest does with the roles of ray and triangle
+// swapped, with the same guarantee (each lane is the scalar kernel, bit for bit).
+using RayTest = uint64_t (*)(const LeafView& leaf, uint32_t tri, const RayLanes& rays,
+                             uint64_t lanes, RayHits& out);
+
 struct Kernel {
   uint32_t lanes = 1;
   LaneTest test = nullptr;
+  RayTest test_rays = nullptr;
 };
 Kernel kernel_for(Isa isa);
 
@@ -103,41 +151,67 @@ struct NoLeafRecord {
   void rejected() {}
 };
 
-// Tests the leaf's triangles this ray has not tested yet, keeping `best` the nearest hit
-// (lowest id among equal t; docs/design.md §6.4) and `tmax` its t. Returns true when one of
-// them became the nearest hit (AnyHit: when one blocks the ray, which ends the search).
+// The ray's test against a leaf's triangle boxes (LeafView::boxes), over the segment it
+// searches: its RayBoxes and that segment in its own t, as the 1D grid tests content boxes
+// (docs/design.md §6.7). Without `boxes`, every triangle is tested.
+struct BoxFilter {
+  const RayBoxes* boxes = nullptr;
+  __m128 t_lo = _mm_setzero_ps(), t_hi = _mm_setzero_ps();
+
+  // Bits 0..7 for triangles first .. first + 7 whose box the ray's segment crosses (all of
+  // them without a filter or boxes); bits past the leaf's end are not cleared.
+  uint32_t crossed8(const LeafView& leaf, uint32_t first) const {
+    if (!boxes || !leaf.boxes) return 0xFFu;
+    const uint32_t stride = box_stride(leaf.count);
+    uint32_t met = boxes->crossed4(leaf.boxes, stride, first, t_lo, t_hi);
+    if (first + 4 < leaf.count)
+      met |= boxes->crossed4(leaf.boxes, stride, first + 4, t_lo, t_hi) << 4;
+    return met;
+  }
+};
+
+// Tests the leaf's triangles this ray has not tested yet and whose boxes it crosses
+// (`filter`), keeping `best` the nearest hit (lowest id among equal t; docs/design.md §6.4)
+// and `tmax` its t. Returns true when one of them became the nearest hit (AnyHit: when one
+// blocks the ray, which ends the search).
 template <bool AnyHit, class Record = NoLeafRecord>
 inline bool test_leaf(const LeafView& leaf, const Kernel& kernel,
-                      const PreparedRay<KernelReal>& ray, uint64_t ray_id, float& tmax, Hit& best,
-                      Mailbox& mailbox, TraceCounters& counters, Record&& record = {}) {
+                      const PreparedRay<KernelReal>& ray, const BoxFilter& filter, uint64_t ray_id,
+                      float& tmax, Hit& best, Mailbox& mailbox, TraceCounters& counters,
+                      Record&& record = {}) {
+  GRIDSCOPE_CHECK(kernel.lanes <= kMaxLanes && 8 % kernel.lanes == 0);
   bool found = false;
-  for (uint32_t first = 0; first < leaf.count; first += kernel.lanes) {
-    const uint32_t width = std::min(kernel.lanes, leaf.count - first);
-    uint32_t lanes = 0, tested = 0;
-    for (uint32_t j = 0; j < width; ++j) {
-      const uint32_t id = leaf.ids[first + j];
-      if (!(id & kOnlyHere) && mailbox.already_tested(id, ray_id)) {
-        ++counters.mailbox_rejections;
-        record.rejected();
-      } else {
-        lanes |= 1u << j;
-        ++tested;
+  for (uint32_t block = 0; block < leaf.count; block += 8) {
+    const uint32_t crossed = filter.crossed8(leaf, block);
+    const uint32_t block_end = std::min(block + 8, leaf.count);
+    for (uint32_t first = block; first < block_end; first += kernel.lanes) {
+      const uint32_t width = std::min(kernel.lanes, block_end - first);
+      uint32_t lanes = 0, tested = 0;
+      for (uint32_t j = 0; j < width; ++j) {
+        const uint32_t id = leaf.ids[first + j];
+        if (!(crossed >> (first - block + j) & 1u)) continue;
+        if (!(id & kOnlyHere) && mailbox.already_tested(id, ray_id)) {
+          ++counters.mailbox_rejections;
+          record.rejected();
+        } else {
+          lanes |= 1u << j;
+          ++tested;
+        }
       }
-    }
-    if (lanes == 0) continue;
-    counters.intersection_tests += tested;
-    record.tested(tested);
-    GRIDSCOPE_CHECK(kernel.lanes <= kMaxLanes);
-    LaneHits out;
-    for (uint32_t hits = kernel.test(leaf, first, lanes, ray, tmax, out); hits != 0;
-         hits &= hits - 1) {
-      const uint32_t j = uint32_t(std::countr_zero(hits));
-      const auto id = int32_t(leaf.id(first + j));
-      if (closer(out.t[j], id, best)) {
-        best = {id, out.t[j], out.u[j], out.v[j]};
-        tmax = out.t[j];
-        found = true;
-        if (AnyHit) return true;
+      if (lanes == 0) continue;
+      counters.intersection_tests += tested;
+      record.tested(tested);
+      LaneHits out;
+      for (uint32_t hits = kernel.test(leaf, first, lanes, ray, tmax, out); hits != 0;
+           hits &= hits - 1) {
+        const uint32_t j = uint32_t(std::countr_zero(hits));
+        const auto id = int32_t(leaf.id(first + j));
+        if (closer(out.t[j], id, best)) {
+          best = {id, out.t[j], out.u[j], out.v[j]};
+          tmax = out.t[j];
+          found = true;
+          if (AnyHit) return true;
+        }
       }
     }
   }

@@ -5,6 +5,8 @@
 // is compiled for it; called only when the CPU has AVX2.
 #include <immintrin.h>
 
+#include <bit>
+
 #include "core/geometry/simd.h"
 
 #if defined(__clang__)
@@ -32,55 +34,99 @@ inline uint32_t any_edge(__m256d e0, __m256d e1, __m256d e2) {
       _mm256_cmp_pd(e2, zero, Predicate))));
 }
 
+// One test per lane: corner k of the lane's triangle on the ray's axes kx, ky, kz
+// (corner[k][0..2]) against the lane's ray (origin on those axes, shear, shift, t range).
+struct Lanes {
+  __m256d corner[3][3];
+  __m256d origin[3], shear[3], shift;
+  __m128 tmin, tmax;
+};
+
+// The scalar kernel's operations in every lane of `lanes`: returns the lanes hit (their t, u
+// and v stored at t_out, u_out, v_out) and sets `wide` to the lanes whose edge functions rounded to
+// zero, which the scalar kernel must redo in wider arithmetic.
+[[gnu::always_inline]] inline uint32_t hit_lanes(const Lanes& l, uint32_t lanes, uint32_t& wide,
+                                                 float* t_out, float* u_out, float* v_out) {
+  const __m256d az = _mm256_sub_pd(l.corner[0][2], l.origin[2]);
+  const __m256d bz = _mm256_sub_pd(l.corner[1][2], l.origin[2]);
+  const __m256d cz = _mm256_sub_pd(l.corner[2][2], l.origin[2]);
+  const auto sheared = [&](int k, int a, __m256d z) {
+    return _mm256_sub_pd(_mm256_sub_pd(l.corner[k][a], l.origin[a]), _mm256_mul_pd(l.shear[a], z));
+  };
+  const __m256d ax = sheared(0, 0, az), ay = sheared(0, 1, az);
+  const __m256d bx = sheared(1, 0, bz), by = sheared(1, 1, bz);
+  const __m256d cx = sheared(2, 0, cz), cy = sheared(2, 1, cz);
+  const __m256d e0 = _mm256_sub_pd(_mm256_mul_pd(cx, by), _mm256_mul_pd(cy, bx));
+  const __m256d e1 = _mm256_sub_pd(_mm256_mul_pd(ax, cy), _mm256_mul_pd(ay, cx));
+  const __m256d e2 = _mm256_sub_pd(_mm256_mul_pd(bx, ay), _mm256_mul_pd(by, ax));
+
+  const __m256d zero = _mm256_setzero_pd();
+  wide = any_edge<_CMP_EQ_OQ>(e0, e1, e2) & lanes;
+  const uint32_t inside =
+      ~(any_edge<_CMP_LT_OQ>(e0, e1, e2) & any_edge<_CMP_GT_OQ>(e0, e1, e2)) & lanes & ~wide;
+  const __m256d det = _mm256_add_pd(_mm256_add_pd(e0, e1), e2);
+  const uint32_t nonzero = uint32_t(_mm256_movemask_pd(_mm256_cmp_pd(det, zero, _CMP_NEQ_UQ)));
+  const __m256d sz = l.shear[2];
+  const __m256d scaled = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(e0, _mm256_mul_pd(sz, az)),
+                                                     _mm256_mul_pd(e1, _mm256_mul_pd(sz, bz))),
+                                       _mm256_mul_pd(e2, _mm256_mul_pd(sz, cz)));
+  const __m128 t = _mm256_cvtpd_ps(_mm256_add_pd(l.shift, _mm256_div_pd(scaled, det)));
+  const uint32_t in_range = uint32_t(_mm_movemask_ps(
+      _mm_and_ps(_mm_cmp_ps(t, l.tmin, _CMP_GT_OQ), _mm_cmp_ps(t, l.tmax, _CMP_LE_OQ))));
+  const uint32_t hits = inside & nonzero & in_range;
+  if (hits != 0) {
+    _mm_storeu_ps(t_out, t);
+    _mm_storeu_ps(u_out, _mm256_cvtpd_ps(_mm256_div_pd(e1, det)));
+    _mm_storeu_ps(v_out, _mm256_cvtpd_ps(_mm256_div_pd(e2, det)));
+  }
+  return hits;
+}
+
 }  // namespace
 
 uint32_t test_lanes_avx2(const LeafView& leaf, uint32_t first, uint32_t lanes,
                          const PreparedRay<KernelReal>& ray, float tmax, LaneHits& out) {
   const __m128i mask = _mm_cmpgt_epi32(
       _mm_and_si128(_mm_set1_epi32(int(lanes)), _mm_setr_epi32(1, 2, 4, 8)), _mm_setzero_si128());
-  const auto load = [&](int corner, int axis) {
-    return coordinate(leaf.corner(first, corner) + size_t(axis) * leaf.count, mask);
-  };
-  const int kx = ray.kx, ky = ray.ky, kz = ray.kz;
-  const __m256d ox = _mm256_set1_pd(ray.origin[kx]), oy = _mm256_set1_pd(ray.origin[ky]),
-                oz = _mm256_set1_pd(ray.origin[kz]);
-  const __m256d sx = _mm256_set1_pd(ray.sx), sy = _mm256_set1_pd(ray.sy),
-                sz = _mm256_set1_pd(ray.sz);
-  const __m256d az = _mm256_sub_pd(load(0, kz), oz), bz = _mm256_sub_pd(load(1, kz), oz),
-                cz = _mm256_sub_pd(load(2, kz), oz);
-  const __m256d ax = _mm256_sub_pd(_mm256_sub_pd(load(0, kx), ox), _mm256_mul_pd(sx, az));
-  const __m256d ay = _mm256_sub_pd(_mm256_sub_pd(load(0, ky), oy), _mm256_mul_pd(sy, az));
-  const __m256d bx = _mm256_sub_pd(_mm256_sub_pd(load(1, kx), ox), _mm256_mul_pd(sx, bz));
-  const __m256d by = _mm256_sub_pd(_mm256_sub_pd(load(1, ky), oy), _mm256_mul_pd(sy, bz));
-  const __m256d cx = _mm256_sub_pd(_mm256_sub_pd(load(2, kx), ox), _mm256_mul_pd(sx, cz));
-  const __m256d cy = _mm256_sub_pd(_mm256_sub_pd(load(2, ky), oy), _mm256_mul_pd(sy, cz));
-  const __m256d e0 = _mm256_sub_pd(_mm256_mul_pd(cx, by), _mm256_mul_pd(cy, bx));
-  const __m256d e1 = _mm256_sub_pd(_mm256_mul_pd(ax, cy), _mm256_mul_pd(ay, cx));
-  const __m256d e2 = _mm256_sub_pd(_mm256_mul_pd(bx, ay), _mm256_mul_pd(by, ax));
-
-  const __m256d zero = _mm256_setzero_pd();
-
-  // An edge function of exactly zero is redone in wider arithmetic: the scalar kernel's.
-  const uint32_t wide = any_edge<_CMP_EQ_OQ>(e0, e1, e2) & lanes;
-  const uint32_t inside =
-      ~(any_edge<_CMP_LT_OQ>(e0, e1, e2) & any_edge<_CMP_GT_OQ>(e0, e1, e2)) & lanes & ~wide;
-  const __m256d det = _mm256_add_pd(_mm256_add_pd(e0, e1), e2);
-  const uint32_t nonzero = uint32_t(_mm256_movemask_pd(_mm256_cmp_pd(det, zero, _CMP_NEQ_UQ)));
-  const __m256d scaled = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(e0, _mm256_mul_pd(sz, az)),
-                                                     _mm256_mul_pd(e1, _mm256_mul_pd(sz, bz))),
-                                       _mm256_mul_pd(e2, _mm256_mul_pd(sz, cz)));
-  const __m128 t =
-      _mm256_cvtpd_ps(_mm256_add_pd(_mm256_set1_pd(ray.shift), _mm256_div_pd(scaled, det)));
-  const uint32_t in_range =
-      uint32_t(_mm_movemask_ps(_mm_and_ps(_mm_cmp_ps(t, _mm_set1_ps(ray.tmin), _CMP_GT_OQ),
-                                          _mm_cmp_ps(t, _mm_set1_ps(tmax), _CMP_LE_OQ))));
-  uint32_t hits = inside & nonzero & in_range;
-  if (hits != 0) {
-    _mm_storeu_ps(out.t, t);
-    _mm_storeu_ps(out.u, _mm256_cvtpd_ps(_mm256_div_pd(e1, det)));
-    _mm_storeu_ps(out.v, _mm256_cvtpd_ps(_mm256_div_pd(e2, det)));
-  }
+  const int axes[3] = {ray.kx, ray.ky, ray.kz};
+  Lanes l;
+  for (int k = 0; k < 3; ++k)
+    for (int a = 0; a < 3; ++a)
+      l.corner[k][a] = coordinate(leaf.corner(first, k) + size_t(axes[a]) * leaf.count, mask);
+  for (int a = 0; a < 3; ++a) l.origin[a] = _mm256_set1_pd(ray.origin[axes[a]]);
+  l.shear[0] = _mm256_set1_pd(ray.sx), l.shear[1] = _mm256_set1_pd(ray.sy);
+  l.shear[2] = _mm256_set1_pd(ray.sz);
+  l.shift = _mm256_set1_pd(ray.shift);
+  l.tmin = _mm_set1_ps(ray.tmin), l.tmax = _mm_set1_ps(tmax);
+  uint32_t wide = 0;
+  uint32_t hits = hit_lanes(l, lanes, wide, out.t, out.u, out.v);
   if (wide != 0) hits |= test_lanes_scalar(leaf, first, wide, ray, tmax, out);
+  return hits;
+}
+
+uint64_t test_rays_avx2(const LeafView& leaf, uint32_t tri, const RayLanes& rays, uint64_t lanes,
+                        RayHits& out) {
+  const int axes[3] = {rays.kx, rays.ky, rays.kz};
+  Lanes l;
+  for (int k = 0; k < 3; ++k)
+    for (int a = 0; a < 3; ++a)
+      l.corner[k][a] = _mm256_set1_pd(double(leaf.corner(tri, k)[size_t(axes[a]) * leaf.count]));
+  uint64_t hits = 0, wide_lanes = 0;
+  for (; lanes != 0; lanes &= ~(uint64_t{15} << 4 * (std::countr_zero(lanes) / 4))) {
+    const uint32_t first = uint32_t(std::countr_zero(lanes)) & ~3u;
+    const uint32_t group = uint32_t(lanes >> first) & 15u;
+    l.origin[0] = _mm256_loadu_pd(rays.ox + first), l.origin[1] = _mm256_loadu_pd(rays.oy + first);
+    l.origin[2] = _mm256_loadu_pd(rays.oz + first);
+    l.shear[0] = _mm256_loadu_pd(rays.sx + first), l.shear[1] = _mm256_loadu_pd(rays.sy + first);
+    l.shear[2] = _mm256_loadu_pd(rays.sz + first);
+    l.shift = _mm256_loadu_pd(rays.shift + first);
+    l.tmin = _mm_loadu_ps(rays.tmin + first), l.tmax = _mm_loadu_ps(rays.tmax + first);
+    uint32_t wide = 0;
+    hits |= uint64_t(hit_lanes(l, group, wide, out.t + first, out.u + first, out.v + first))
+            << first;
+    wide_lanes |= uint64_t(wide) << first;
+  }
+  if (wide_lanes != 0) hits |= test_rays_scalar(leaf, tri, rays, wide_lanes, out);
   return hits;
 }
 

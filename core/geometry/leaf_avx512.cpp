@@ -4,10 +4,13 @@
 // CPU has it.
 #include <immintrin.h>
 
+#include <bit>
+
 #include "core/geometry/simd.h"
 
 #if defined(__clang__)
-#pragma clang attribute push(__attribute__((target("avx512f,avx512vl,avx512dq"))), apply_to = function)
+#pragma clang attribute push(__attribute__((target("avx512f,avx512vl,avx512dq"))), \
+                             apply_to = function)
 #else
 #pragma GCC push_options
 #pragma GCC target("avx512f,avx512vl,avx512dq")
@@ -30,52 +33,98 @@ inline uint32_t any_edge(__m512d e0, __m512d e1, __m512d e2) {
 // about its own undefined source operand.)
 inline __m256 to_float(__m512d x) { return _mm512_maskz_cvtpd_ps(0xFF, x); }
 
-}  // namespace
+// One test per lane, as in leaf_avx2.cpp: corner k of the lane's triangle on the ray's axes
+// kx, ky, kz against the lane's ray.
+struct Lanes {
+  __m512d corner[3][3];
+  __m512d origin[3], shear[3], shift;
+  __m256 tmin, tmax;
+};
 
-uint32_t test_lanes_avx512(const LeafView& leaf, uint32_t first, uint32_t lanes,
-                           const PreparedRay<KernelReal>& ray, float tmax, LaneHits& out) {
-  const auto mask = __mmask8(lanes);
-  const auto load = [&](int corner, int axis) {
-    return _mm512_maskz_cvtps_pd(
-        mask, _mm256_maskz_loadu_ps(mask, leaf.corner(first, corner) + size_t(axis) * leaf.count));
+// The scalar kernel's operations in every lane of `lanes`: the lanes hit (t, u and v stored
+// at t_out, u_out, v_out), and in `wide` the lanes whose edge functions rounded to zero.
+[[gnu::always_inline]] inline uint32_t hit_lanes(const Lanes& l, uint32_t lanes, uint32_t& wide,
+                                                 float* t_out, float* u_out, float* v_out) {
+  const __m512d az = _mm512_sub_pd(l.corner[0][2], l.origin[2]);
+  const __m512d bz = _mm512_sub_pd(l.corner[1][2], l.origin[2]);
+  const __m512d cz = _mm512_sub_pd(l.corner[2][2], l.origin[2]);
+  const auto sheared = [&](int k, int a, __m512d z) {
+    return _mm512_sub_pd(_mm512_sub_pd(l.corner[k][a], l.origin[a]), _mm512_mul_pd(l.shear[a], z));
   };
-  const int kx = ray.kx, ky = ray.ky, kz = ray.kz;
-  const __m512d ox = _mm512_set1_pd(ray.origin[kx]), oy = _mm512_set1_pd(ray.origin[ky]),
-                oz = _mm512_set1_pd(ray.origin[kz]);
-  const __m512d sx = _mm512_set1_pd(ray.sx), sy = _mm512_set1_pd(ray.sy),
-                sz = _mm512_set1_pd(ray.sz);
-  const __m512d az = _mm512_sub_pd(load(0, kz), oz), bz = _mm512_sub_pd(load(1, kz), oz),
-                cz = _mm512_sub_pd(load(2, kz), oz);
-  const __m512d ax = _mm512_sub_pd(_mm512_sub_pd(load(0, kx), ox), _mm512_mul_pd(sx, az));
-  const __m512d ay = _mm512_sub_pd(_mm512_sub_pd(load(0, ky), oy), _mm512_mul_pd(sy, az));
-  const __m512d bx = _mm512_sub_pd(_mm512_sub_pd(load(1, kx), ox), _mm512_mul_pd(sx, bz));
-  const __m512d by = _mm512_sub_pd(_mm512_sub_pd(load(1, ky), oy), _mm512_mul_pd(sy, bz));
-  const __m512d cx = _mm512_sub_pd(_mm512_sub_pd(load(2, kx), ox), _mm512_mul_pd(sx, cz));
-  const __m512d cy = _mm512_sub_pd(_mm512_sub_pd(load(2, ky), oy), _mm512_mul_pd(sy, cz));
+  const __m512d ax = sheared(0, 0, az), ay = sheared(0, 1, az);
+  const __m512d bx = sheared(1, 0, bz), by = sheared(1, 1, bz);
+  const __m512d cx = sheared(2, 0, cz), cy = sheared(2, 1, cz);
   const __m512d e0 = _mm512_sub_pd(_mm512_mul_pd(cx, by), _mm512_mul_pd(cy, bx));
   const __m512d e1 = _mm512_sub_pd(_mm512_mul_pd(ax, cy), _mm512_mul_pd(ay, cx));
   const __m512d e2 = _mm512_sub_pd(_mm512_mul_pd(bx, ay), _mm512_mul_pd(by, ax));
 
   const __m512d zero = _mm512_setzero_pd();
-  // An edge function of exactly zero is redone in wider arithmetic: the scalar kernel's.
-  const uint32_t wide = any_edge<_CMP_EQ_OQ>(e0, e1, e2) & lanes;
+  wide = any_edge<_CMP_EQ_OQ>(e0, e1, e2) & lanes;
   const uint32_t inside =
       ~(any_edge<_CMP_LT_OQ>(e0, e1, e2) & any_edge<_CMP_GT_OQ>(e0, e1, e2)) & lanes & ~wide;
   const __m512d det = _mm512_add_pd(_mm512_add_pd(e0, e1), e2);
   const uint32_t nonzero = _mm512_cmp_pd_mask(det, zero, _CMP_NEQ_UQ);
+  const __m512d sz = l.shear[2];
   const __m512d scaled = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(e0, _mm512_mul_pd(sz, az)),
                                                      _mm512_mul_pd(e1, _mm512_mul_pd(sz, bz))),
                                        _mm512_mul_pd(e2, _mm512_mul_pd(sz, cz)));
-  const __m256 t = to_float(_mm512_add_pd(_mm512_set1_pd(ray.shift), _mm512_div_pd(scaled, det)));
-  const uint32_t in_range = _mm256_cmp_ps_mask(t, _mm256_set1_ps(ray.tmin), _CMP_GT_OQ) &
-                            _mm256_cmp_ps_mask(t, _mm256_set1_ps(tmax), _CMP_LE_OQ);
-  uint32_t hits = inside & nonzero & in_range;
+  const __m256 t = to_float(_mm512_add_pd(l.shift, _mm512_div_pd(scaled, det)));
+  const uint32_t in_range =
+      _mm256_cmp_ps_mask(t, l.tmin, _CMP_GT_OQ) & _mm256_cmp_ps_mask(t, l.tmax, _CMP_LE_OQ);
+  const uint32_t hits = inside & nonzero & in_range;
   if (hits != 0) {
-    _mm256_storeu_ps(out.t, t);
-    _mm256_storeu_ps(out.u, to_float(_mm512_div_pd(e1, det)));
-    _mm256_storeu_ps(out.v, to_float(_mm512_div_pd(e2, det)));
+    _mm256_storeu_ps(t_out, t);
+    _mm256_storeu_ps(u_out, to_float(_mm512_div_pd(e1, det)));
+    _mm256_storeu_ps(v_out, to_float(_mm512_div_pd(e2, det)));
   }
+  return hits;
+}
+
+}  // namespace
+
+uint32_t test_lanes_avx512(const LeafView& leaf, uint32_t first, uint32_t lanes,
+                           const PreparedRay<KernelReal>& ray, float tmax, LaneHits& out) {
+  const auto mask = __mmask8(lanes);
+  const int axes[3] = {ray.kx, ray.ky, ray.kz};
+  Lanes l;
+  for (int k = 0; k < 3; ++k)
+    for (int a = 0; a < 3; ++a)
+      l.corner[k][a] = _mm512_maskz_cvtps_pd(
+          mask, _mm256_maskz_loadu_ps(mask, leaf.corner(first, k) + size_t(axes[a]) * leaf.count));
+  for (int a = 0; a < 3; ++a) l.origin[a] = _mm512_set1_pd(ray.origin[axes[a]]);
+  l.shear[0] = _mm512_set1_pd(ray.sx), l.shear[1] = _mm512_set1_pd(ray.sy);
+  l.shear[2] = _mm512_set1_pd(ray.sz);
+  l.shift = _mm512_set1_pd(ray.shift);
+  l.tmin = _mm256_set1_ps(ray.tmin), l.tmax = _mm256_set1_ps(tmax);
+  uint32_t wide = 0;
+  uint32_t hits = hit_lanes(l, lanes, wide, out.t, out.u, out.v);
   if (wide != 0) hits |= test_lanes_scalar(leaf, first, wide, ray, tmax, out);
+  return hits;
+}
+
+uint64_t test_rays_avx512(const LeafView& leaf, uint32_t tri, const RayLanes& rays, uint64_t lanes,
+                          RayHits& out) {
+  const int axes[3] = {rays.kx, rays.ky, rays.kz};
+  Lanes l;
+  for (int k = 0; k < 3; ++k)
+    for (int a = 0; a < 3; ++a)
+      l.corner[k][a] = _mm512_set1_pd(double(leaf.corner(tri, k)[size_t(axes[a]) * leaf.count]));
+  uint64_t hits = 0, wide_lanes = 0;
+  for (; lanes != 0; lanes &= ~(uint64_t{255} << 8 * (std::countr_zero(lanes) / 8))) {
+    const uint32_t first = uint32_t(std::countr_zero(lanes)) & ~7u;
+    const uint32_t group = uint32_t(lanes >> first) & 255u;
+    l.origin[0] = _mm512_loadu_pd(rays.ox + first), l.origin[1] = _mm512_loadu_pd(rays.oy + first);
+    l.origin[2] = _mm512_loadu_pd(rays.oz + first);
+    l.shear[0] = _mm512_loadu_pd(rays.sx + first), l.shear[1] = _mm512_loadu_pd(rays.sy + first);
+    l.shear[2] = _mm512_loadu_pd(rays.sz + first);
+    l.shift = _mm512_loadu_pd(rays.shift + first);
+    l.tmin = _mm256_loadu_ps(rays.tmin + first), l.tmax = _mm256_loadu_ps(rays.tmax + first);
+    uint32_t wide = 0;
+    hits |= uint64_t(hit_lanes(l, group, wide, out.t + first, out.u + first, out.v + first))
+            << first;
+    wide_lanes |= uint64_t(wide) << first;
+  }
+  if (wide_lanes != 0) hits |= test_rays_scalar(leaf, tri, rays, wide_lanes, out);
   return hits;
 }
 

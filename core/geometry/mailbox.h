@@ -34,4 +34,32 @@ class Mailbox {
   uint32_t triangle_[kSlots] = {};
 };
 
+// The mailbox of a packet of up to 64 rays walked together (docs/design.md §6.9): per slot a
+// triangle, the packet and which of its rays tested it. A Mailbox slot per (ray, triangle)
+// would thrash, the packet's rays testing the same triangles one after another.
+class PacketMailbox {
+ public:
+  static constexpr size_t kSlots = Mailbox::kSlots;
+
+  uint64_t next_packet() { return ++packet_id_; }
+  // Of `rays` (bits of packet `packet`'s rays), those that already tested `triangle`; all of
+  // them are recorded as having tested it.
+  uint64_t mark(uint32_t triangle, uint64_t packet, uint64_t rays) {
+    const size_t slot = triangle & (kSlots - 1);
+    if (packet_[slot] != packet || triangle_[slot] != triangle) {
+      packet_[slot] = packet, triangle_[slot] = triangle, rays_[slot] = rays;
+      return 0;
+    }
+    const uint64_t already = rays_[slot] & rays;
+    rays_[slot] |= rays;
+    return already;
+  }
+
+ private:
+  uint64_t packet_id_ = 0;
+  uint64_t packet_[kSlots] = {};
+  uint64_t rays_[kSlots] = {};
+  uint32_t triangle_[kSlots] = {};
+};
+
 }  // namespace gs

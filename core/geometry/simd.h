@@ -13,6 +13,14 @@ uint32_t test_lanes_avx2(const LeafView& leaf, uint32_t first, uint32_t lanes,
 uint32_t test_lanes_avx512(const LeafView& leaf, uint32_t first, uint32_t lanes,
                            const PreparedRay<KernelReal>& ray, float tmax, LaneHits& out);
 
+// The same with rays in lanes (RayTest).
+uint64_t test_rays_avx2(const LeafView& leaf, uint32_t tri, const RayLanes& rays, uint64_t lanes,
+                        RayHits& out);
+uint64_t test_rays_avx512(const LeafView& leaf, uint32_t tri, const RayLanes& rays, uint64_t lanes,
+                          RayHits& out);
+uint64_t test_rays_scalar(const LeafView& leaf, uint32_t tri, const RayLanes& rays, uint64_t lanes,
+                          RayHits& out);
+
 // Lanes whose edge functions rounded to zero: the scalar kernel redoes them in wider
 // arithmetic (the paper's rule), so they are handed to it. Returns the lanes of `zero` it
 // found hit, filling `out`.

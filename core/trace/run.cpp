@@ -50,6 +50,18 @@ nlohmann::json run_stats(const Scene& scene, const Accelerator& accel, nlohmann:
   stats["mailbox_rejections"] = counted(structure.counts_tests, counters.mailbox_rejections);
   stats["traversal_steps"] = counted(structure.counts_steps, counters.traversal_steps);
   stats["descents"] = counted(structure.counts_descents, counters.descents);
+  // Packets: null unless the run traced rays in packets.
+  const bool packets = counters.packet_rays + counters.packet_fallback_rays > 0;
+  const auto packet_figure = [&](nlohmann::json value) {
+    return packets ? std::move(value) : nlohmann::json(nullptr);
+  };
+  stats["packets"] = packet_figure(counters.packets);
+  stats["packet_fallback_rays"] = packet_figure(counters.packet_fallback_rays);
+  stats["packet_steps"] = packet_figure(counters.packet_steps);
+  stats["packet_active_fraction"] =
+      packet_figure(counters.packet_step_slots > 0
+                        ? double(counters.packet_step_rays) / double(counters.packet_step_slots)
+                        : 0.0);
   stats["memory_bytes"] = structure.memory_bytes;
   stats["voxels_over_budget"] = structure.voxels_over_budget;
   return stats;

@@ -1,5 +1,8 @@
 #include "core/trace/trace_job.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "core/base/error.h"
 #include "core/base/files.h"
 #include "core/base/timing.h"
@@ -33,6 +36,7 @@ nlohmann::json trace_parameters(const TraceJob& job) {
   parameters["eager"] = job.eager;
   parameters["occluded"] = job.occluded;
   parameters["repeat"] = job.repeat;
+  parameters["packets"] = job.packets;
   return parameters;
 }
 
@@ -55,6 +59,55 @@ double prepare(Accelerator& accel, const Scene& scene, const std::vector<Ray>& r
   return seconds;
 }
 
+// The rays in the order packets take them, and where each packet starts in that order (one
+// more entry: the end). Consecutive rays, or an image's k x k tiles, row by row of tiles.
+struct PacketOrder {
+  std::vector<uint32_t> rays;
+  std::vector<size_t> starts;
+};
+PacketOrder packet_order(size_t count, const TraceJob& job) {
+  PacketOrder order;
+  const auto side = size_t(std::lround(std::sqrt(double(job.packets))));
+  if (job.sample_image_width == 0) {
+    for (size_t i = 0; i < count; ++i) order.rays.push_back(uint32_t(i));
+    for (size_t i = 0; i < count; i += size_t(job.packets)) order.starts.push_back(i);
+  } else {
+    if (side * side != size_t(job.packets))
+      throw UsageError("trace: --packets " + std::to_string(job.packets) +
+                       " with --sample-image must be a square (4, 9, ..., 64): the image's "
+                       "tiles are k x k pixels");
+    const auto w = size_t(job.sample_image_width), h = size_t(job.sample_image_height);
+    for (size_t y0 = 0; y0 < h; y0 += side)
+      for (size_t x0 = 0; x0 < w; x0 += side) {
+        order.starts.push_back(order.rays.size());
+        for (size_t y = y0; y < std::min(y0 + side, h); ++y)
+          for (size_t x = x0; x < std::min(x0 + side, w); ++x)
+            order.rays.push_back(uint32_t(y * w + x));
+      }
+  }
+  order.starts.push_back(count);
+  return order;
+}
+
+// One pass over the rays in packets (job.packets > 0).
+TraceCounters trace_packets(const Accelerator& accel, const std::vector<Ray>& rays,
+                            const PacketOrder& order, const TraceJob& job, std::vector<Hit>& hits) {
+  const size_t packets = order.starts.size() - 1;
+  const size_t chunk = std::max<size_t>(1, kRayChunk / size_t(job.packets));
+  return trace_chunks(
+      accel, packets, chunk, job.threads, [&](ThreadContext& context, size_t begin, size_t end) {
+        Ray packet[Accelerator::kMaxPacketRays];
+        uint64_t keys[Accelerator::kMaxPacketRays];
+        Hit answers[Accelerator::kMaxPacketRays];
+        for (size_t p = begin; p < end; ++p) {
+          const size_t first = order.starts[p], n = order.starts[p + 1] - first;
+          for (size_t k = 0; k < n; ++k) keys[k] = order.rays[first + k], packet[k] = rays[keys[k]];
+          accel.trace_packet({packet, n}, {keys, n}, {answers, n}, job.occluded, context);
+          for (size_t k = 0; k < n; ++k) hits[keys[k]] = answers[k];
+        }
+      });
+}
+
 // Re-traces ray job.walk_ray with the recorder, on the structure the run built.
 void write_walk(const Accelerator& accel, const std::vector<Ray>& rays, const TraceJob& job) {
   if (size_t(job.walk_ray) >= rays.size())
@@ -71,6 +124,9 @@ void write_walk(const Accelerator& accel, const std::vector<Ray>& rays, const Tr
 nlohmann::json run_trace(const TraceJob& job) {
   check_thread_count(job.threads);
   std::unique_ptr<Accelerator> accel = make_accelerator(job.accel, job.params);
+  if (job.packets > 0 && !accel->traces_packets())
+    throw UsageError("trace: --packets: structure '" + job.accel +
+                     "' has no packet traversal (it would trace the rays one by one)");
   const Scene scene = load_scene(job.scene);
   const std::vector<Ray> rays = read_rays(job.rays_path);
 
@@ -80,8 +136,13 @@ nlohmann::json run_trace(const TraceJob& job) {
   accel->check_ray_keys(rays.size(), "ray");
   std::vector<Hit> hits(rays.size());
   TraceCounters counters;
+  const PacketOrder order = job.packets > 0 ? packet_order(rays.size(), job) : PacketOrder{};
   const auto pass = [&] {
     return seconds_of([&] {
+      if (job.packets > 0) {
+        counters = trace_packets(*accel, rays, order, job, hits);
+        return;
+      }
       counters = trace_chunks(*accel, rays.size(), kRayChunk, job.threads,
                               [&](ThreadContext& context, size_t begin, size_t end) {
                                 for (size_t i = begin; i < end; ++i) {

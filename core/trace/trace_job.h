@@ -33,6 +33,9 @@ struct TraceJob {
   // With the image's camera too, the pass also samples the shadow rays of the sample pixels'
   // hits toward the light render places for that camera, as render does.
   std::optional<Camera> sample_camera;
+  // With packets > 0: rays go to Accelerator::trace_packet this many at a time, consecutive
+  // rays of the file, or with the image's size tiles of packets = k * k pixels.
+  int packets = 0;
   // With walk_ray >= 0: that ray's walk, recorded after the run, is written to walk_path.
   int64_t walk_ray = -1;
   std::string walk_path;

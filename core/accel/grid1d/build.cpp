@@ -244,7 +244,7 @@ uint32_t Grid1D::make_leaf(uint32_t id) const {
   const uint32_t count = voxels_[id].tri_count;
   const uint32_t unbuilt = child_ref::make(child_ref::kUnbuilt, id);
   if (!reserve_bytes(LeafStore::bytes_for(count))) return unbuilt;
-  const uint32_t handle = leaves_.add(leaf_ids(id), input_.triangles);
+  const uint32_t handle = leaves_.add(leaf_ids(id), input_);
   if (handle == LeafStore::kFull || handle > child_ref::kMaxPayload) return unbuilt;
   return child_ref::make(child_ref::kLeaf, handle);
 }

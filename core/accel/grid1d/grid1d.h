@@ -67,6 +67,9 @@ class Grid1D final : public Accelerator {
   Hit any_hit(const Ray& ray, ThreadContext& context) const override;
   StructureStats stats() const override;
   std::optional<Walk> record_walk(const Ray& ray, ThreadContext& context) const override;
+  void trace_packet(std::span<const Ray> rays, std::span<const uint64_t> keys, std::span<Hit> hits,
+                    bool any_hit, ThreadContext& context) const override;
+  bool traces_packets() const override { return true; }
   const Grid1D* grid1d() const override { return this; }
 
   static constexpr uint32_t kNone = UINT32_MAX;  // "no voxel above": the scene box itself
@@ -136,10 +139,23 @@ class Grid1D final : public Accelerator {
   template <class Recorder>
   int64_t descend(uint32_t node, double t_cur, int entered_axis, RayWalk& walk, Context& context,
                   Recorder& recorder) const;
-  template <bool AnyHit, class Recorder>
-  bool search_unbuilt(uint32_t voxel, RayWalk& walk, Context& context, Recorder& recorder) const;
+  LeafView leaf_of(uint32_t ref, Context& context) const;
+  LeafView unbuilt_leaf(uint32_t voxel, Context& context) const;
   uint32_t cursor_voxel(const Cursor& cursor) const;
-  void set_stop(RayWalk& walk) const;
+
+  // Packet walk (packet.cpp).
+  struct PacketRay;
+  struct PacketWalk;
+  template <bool AnyHit>
+  void trace_together(std::span<const Ray> rays, std::span<Hit> hits, Context& context) const;
+  template <bool AnyHit>
+  void visit(uint32_t ref, uint64_t rays, const double* t_in, const double* t_out,
+             PacketWalk& walk) const;
+  template <bool AnyHit>
+  void visit_node(uint32_t node, uint64_t rays, const double* t_in, const double* t_out,
+                  PacketWalk& walk) const;
+  template <bool AnyHit>
+  void search_leaf(const LeafView& leaf, uint64_t rays, PacketWalk& walk) const;
 
   // Lazy build (build.cpp).
   void make_root();

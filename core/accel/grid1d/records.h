@@ -2,11 +2,13 @@
 // outside the grid includes this file.
 #pragma once
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "core/accel/grid1d/grid1d.h"
 #include "core/base/check.h"
 #include "core/geometry/box_test.h"
+#include "core/geometry/clip_box.h"
 
 namespace gs {
 
@@ -75,6 +77,40 @@ struct Grid1D::Cut {
   double rays = 0;
 };
 
+// Where a ray's search may stop (in its walk line's t): the stop distance of its nearest
+// hit so far, or of tmax; and the content boxes' test interval in the ray's own t, from
+// its entry into the scene box to there (docs/design.md §6.7). Tested on the ray's own
+// line, not at all from far away (WalkLine::far).
+inline __m128 box_test_start(const WalkLine& line) {
+  return _mm_set1_ps(line.far ? -std::numeric_limits<float>::infinity()
+                              : float_down(line.shift + line.t0));
+}
+inline void set_stop(const WalkLine& line, float tmax, double& stop, __m128& box_test_end) {
+  stop = line.stop(tmax);
+  box_test_end =
+      _mm_set1_ps(line.far ? std::numeric_limits<float>::infinity() : float_up(line.shift + stop));
+}
+
+// One ray of a packet (packet.cpp): what the single-ray walk's RayWalk holds about the ray
+// and its nearest hit, without the traversal states (a packet finds cells from walls).
+struct Grid1D::PacketRay {
+  PacketRay(const Ray& ray, const WalkLine& walk_line)
+      : line(walk_line),
+        prepared(ray, line.shift, line.inv_dir),
+        boxes(ray, !line.far),
+        t_lo(box_test_start(line)),
+        tmax(ray.tmax) {
+    set_stop(line, tmax, stop, t_hi);
+  }
+  WalkLine line;
+  PreparedRay<KernelReal> prepared;
+  RayBoxes boxes;
+  double stop;
+  __m128 t_lo, t_hi;
+  float tmax;
+  Hit best;
+};
+
 // A ray's per-thread traversal scratch. Mailbox and state values belong to the thread: the
 // paper's per-object stamp would race between threads (docs/design.md §5). Cache-line
 // aligned: two threads' contexts must not share a line.
@@ -117,6 +153,13 @@ class alignas(64) Grid1D::Context final : public ThreadContext {
   // list (being cut by another thread, or left without a leaf block by the memory budget).
   std::vector<float> scratch_coords;
   std::vector<uint32_t> scratch_ids;
+  // The rays of the packet being traced (reserved once: kMaxPacketRays), its mailbox, and
+  // the rays searching a leaf in the rays-in-lanes forms of the kernel and the box test.
+  std::vector<PacketRay> packet;
+  PacketMailbox packet_mailbox;
+  RayLanes ray_lanes;
+  RayBoxLanes ray_box_lanes;
+  RayHits ray_hits;
 
  private:
   const Grid1D& grid_;

@@ -19,7 +19,6 @@ namespace {
 
 // The two axes other than a: kNextAxis[a] and kNextAxis[a + 1].
 constexpr int kNextAxis[4] = {1, 2, 0, 1};
-constexpr float kInfinityF = std::numeric_limits<float>::infinity();
 
 }  // namespace
 
@@ -120,8 +119,8 @@ Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
   walk.boxes = &boxes;
   walk.tmax = ray.tmax;
   walk.best = Hit{};
-  set_stop(walk);
-  walk.t_lo = _mm_set1_ps(line.far ? -kInfinityF : float_down(line.shift + line.t0));
+  set_stop(line, walk.tmax, walk.stop, walk.t_hi);
+  walk.t_lo = box_test_start(line);
   TraceCounters& counters = context.counters;
 
   Cursor cursor{root_ref_.load(std::memory_order_acquire), line.t0, -1, 0, kNone, 0};
@@ -130,25 +129,14 @@ Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
     ++counters.traversal_steps;
     if constexpr (Recorder::kRecords)
       recorder.cell(cursor_voxel(cursor), line.shift + cursor.t, cursor.entered, cursor.climbed);
-    const bool found =
-        child_ref::kind(cursor.ref) == child_ref::kLeaf
-            ? test_leaf<AnyHit>(leaves_.view(child_ref::payload(cursor.ref)), kernel_, prepared,
-                                walk.ray_id, walk.tmax, walk.best, context.mailbox, counters,
-                                recorder)
-            : search_unbuilt<AnyHit>(child_ref::payload(cursor.ref), walk, context, recorder);
+    const bool found = test_leaf<AnyHit>(leaf_of(cursor.ref, context), kernel_, prepared,
+                                         {&boxes, walk.t_lo, walk.t_hi}, walk.ray_id, walk.tmax,
+                                         walk.best, context.mailbox, counters, recorder);
     recorder.searched(walk.best.id);
     if (AnyHit && found) return walk.best;
-    if (found) set_stop(walk);
+    if (found) set_stop(line, walk.tmax, walk.stop, walk.t_hi);
   } while (next_cell(cursor, walk, context));
   return walk.best;
-}
-
-// The stop distance of the nearest hit so far (or of tmax), in the walk's t, and the end of
-// the content boxes' test interval, in the ray's own t. Changes only with tmax: computed per
-// hit rather than per step.
-inline void Grid1D::set_stop(RayWalk& walk) const {
-  walk.stop = walk.line->stop(walk.tmax);
-  walk.t_hi = _mm_set1_ps(walk.line->far ? kInfinityF : float_up(walk.line->shift + walk.stop));
 }
 
 // The voxel of the cell the cursor stands in (for the recorder).
@@ -232,6 +220,12 @@ bool Grid1D::next_cell(Cursor& cursor, RayWalk& walk, Context& context) const {
     cursor.ref = refs_[moved.children + uint32_t(cell)].load(std::memory_order_acquire);
     return true;
   }
+}
+
+// The triangles of a cell worth a look: its leaf, or (kUnbuilt) its voxel's id list.
+LeafView Grid1D::leaf_of(uint32_t ref, Context& context) const {
+  return child_ref::kind(ref) == child_ref::kLeaf ? leaves_.view(child_ref::payload(ref))
+                                                  : unbuilt_leaf(child_ref::payload(ref), context);
 }
 
 // Makes `node` the one whose state gives the ray's position on axis a.
@@ -358,10 +352,9 @@ template <class Recorder>
 }
 
 // A voxel another thread is still cutting, or a leaf the memory budget left without its
-// leaf block: its triangles, copied into the kernel's form, tested by the one leaf loop.
-template <bool AnyHit, class Recorder>
-bool Grid1D::search_unbuilt(uint32_t id, RayWalk& walk, Context& context,
-                            Recorder& recorder) const {
+// leaf block: its triangles, copied into the kernel's form in the thread's scratch, for
+// the one leaf loop.
+LeafView Grid1D::unbuilt_leaf(uint32_t id, Context& context) const {
   const Voxel& voxel = voxels_[id];
   const uint32_t n = voxel.tri_count;
   context.scratch_ids.assign(&tri_indices_[voxel.tri_begin], &tri_indices_[voxel.tri_begin] + n);
@@ -373,9 +366,7 @@ bool Grid1D::search_unbuilt(uint32_t id, RayWalk& walk, Context& context,
       for (int a = 0; a < 3; ++a)
         context.scratch_coords[size_t(3 * k + a) * n + i] = (*corners[k])[a];
   }
-  const LeafView leaf{context.scratch_coords.data(), context.scratch_ids.data(), n};
-  return test_leaf<AnyHit>(leaf, kernel_, *walk.prepared, walk.ray_id, walk.tmax, walk.best,
-                           context.mailbox, context.counters, recorder);
+  return {context.scratch_coords.data(), context.scratch_ids.data(), n};
 }
 
 }  // namespace gs
