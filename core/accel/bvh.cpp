@@ -249,6 +249,8 @@ Hit Bvh::trace(const Ray& ray, MailboxContext& context) const {
   Hit best;
   WalkLine line;
   if (nodes_.empty() || !start_walk(input_.clip, ray, line)) return best;
+  const RayBoxes boxes(ray, !line.far);
+  const BoxFilter filter = BoxFilter::up_to_tmax(boxes, line, ray.tmax);
   RayBox rb;
   for (int a = 0; a < 3; ++a) {
     rb.origin[a] = line.far ? 0.0f : ray.origin[a];
@@ -280,7 +282,7 @@ Hit Bvh::trace(const Ray& ray, MailboxContext& context) const {
     const Node& node = nodes_[e.node];
     ++counters.traversal_steps;
     if (node.count > 0) {
-      if (test_leaf<AnyHit>(leaves_.view(node.first), kernel_, prepared, {}, ray_id, tmax, best,
+      if (test_leaf<AnyHit>(leaves_.view(node.first), kernel_, prepared, filter, ray_id, tmax, best,
                             context.mailbox, counters)) {
         if (AnyHit) return best;
         limit = limit_of(tmax);

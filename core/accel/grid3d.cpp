@@ -47,6 +47,7 @@ struct NestedGrid::RayWalk {
   float tmax;
   uint64_t ray_id;
   const PreparedRay<KernelReal>* prepared;
+  BoxFilter filter;  // the leaf loop's triangle box test
   Hit best;
 };
 
@@ -113,6 +114,8 @@ Hit NestedGrid::trace(const Ray& ray, MailboxContext& context) const {
   w.ray_id = context.mailbox.next_ray();
   const PreparedRay<KernelReal> prepared(ray, w.line.shift, w.line.inv_dir);
   w.prepared = &prepared;
+  const RayBoxes boxes(ray, !w.line.far);
+  w.filter = BoxFilter::up_to_tmax(boxes, w.line, ray.tmax);
   walk<AnyHit>(0, w.line.t0, -1, w, context);
   return w.best;
 }
@@ -171,8 +174,8 @@ bool NestedGrid::walk(uint32_t grid_id, double t_cur, int entered_axis, RayWalk&
 template <bool AnyHit>
 bool NestedGrid::test_cell(const Cell& cell, RayWalk& w, MailboxContext& context) const {
   return cell.ref_count > 0 &&
-         test_leaf<AnyHit>(leaves_.view(cell.leaf), kernel_, *w.prepared, {}, w.ray_id, w.tmax,
-                           w.best, context.mailbox, context.counters);
+         test_leaf<AnyHit>(leaves_.view(cell.leaf), kernel_, *w.prepared, w.filter, w.ray_id,
+                           w.tmax, w.best, context.mailbox, context.counters);
 }
 
 // The lazy build of one cell (docs/design.md §1.7): the thread that wins the CAS

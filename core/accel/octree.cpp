@@ -197,6 +197,8 @@ Hit Octree::trace(const Ray& ray, MailboxContext& context) const {
   Hit best;
   WalkLine line;
   if (!start_walk(input_.clip, ray, line)) return best;
+  const RayBoxes boxes(ray, !line.far);
+  const BoxFilter filter = BoxFilter::up_to_tmax(boxes, line, ray.tmax);
   int step[3];
   uint32_t fine[3];
   for (int a = 0; a < 3; ++a) {
@@ -212,8 +214,9 @@ Hit Octree::trace(const Ray& ray, MailboxContext& context) const {
     const Located leaf = locate(fine);
     ++leaves;
     const Node& node = nodes_[leaf.node];
-    if (node.count > 0 && test_leaf<AnyHit>(leaves_.view(node.first), kernel_, prepared, {}, ray_id,
-                                            tmax, best, context.mailbox, context.counters)) {
+    if (node.count > 0 &&
+        test_leaf<AnyHit>(leaves_.view(node.first), kernel_, prepared, filter, ray_id, tmax, best,
+                          context.mailbox, context.counters)) {
       if (AnyHit) break;
       stop = line.stop(tmax);
     }

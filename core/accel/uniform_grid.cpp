@@ -201,6 +201,8 @@ Hit UniformGrid::trace(const Ray& ray, MailboxContext& context) const {
   Hit best;
   WalkLine line;
   if (!start_walk(input_.clip, ray, line)) return best;
+  const RayBoxes boxes(ray, !line.far);
+  const BoxFilter filter = BoxFilter::up_to_tmax(boxes, line, ray.tmax);
   const int64_t strides[3] = {1, int64_t(n_[0]), int64_t(n_[0]) * n_[1]};
   double t_next[3];
   int step[3];
@@ -222,8 +224,9 @@ Hit UniformGrid::trace(const Ray& ray, MailboxContext& context) const {
   uint64_t steps = 0;
   for (;;) {
     const uint32_t leaf = cell_leaf_[index];
-    if (leaf != kEmptyCell && test_leaf<AnyHit>(leaves_.view(leaf), kernel_, prepared, {}, ray_id,
-                                                tmax, best, context.mailbox, context.counters)) {
+    if (leaf != kEmptyCell &&
+        test_leaf<AnyHit>(leaves_.view(leaf), kernel_, prepared, filter, ray_id, tmax, best,
+                          context.mailbox, context.counters)) {
       if (AnyHit) break;
       stop = line.stop(tmax);
     }

@@ -6,6 +6,7 @@
 #pragma once
 #include <bit>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "core/base/check.h"
 #include "core/base/stable_array.h"
 #include "core/geometry/box_test.h"
+#include "core/geometry/clip_box.h"
 #include "core/geometry/kernel.h"
 #include "core/geometry/mailbox.h"
 #include "core/geometry/triangles.h"
@@ -151,6 +153,18 @@ struct NoLeafRecord {
   void rejected() {}
 };
 
+// The segment a ray's box tests cover, in the ray's own t (docs/design.md §6.7): from its
+// entry into the clip box to a stop distance `stop` (in the walk line's t), rounded outward
+// to float; the whole line from far away (WalkLine::far), where box tests cull nothing.
+inline __m128 box_test_start(const WalkLine& line) {
+  return _mm_set1_ps(line.far ? -std::numeric_limits<float>::infinity()
+                              : float_down(line.shift + line.t0));
+}
+inline __m128 box_test_end(const WalkLine& line, double stop) {
+  return _mm_set1_ps(line.far ? std::numeric_limits<float>::infinity()
+                              : float_up(line.shift + stop));
+}
+
 // The ray's test against a leaf's triangle boxes (LeafView::boxes), over the segment it
 // searches: its RayBoxes and that segment in its own t, as the 1D grid tests content boxes
 // (docs/design.md §6.7). Without `boxes`, every triangle is tested.
@@ -160,6 +174,11 @@ struct BoxFilter {
 
   // Bits 0..7 for triangles first .. first + 7 whose box the ray's segment crosses (all of
   // them without a filter or boxes); bits past the leaf's end are not cleared.
+  // A walk that keeps the segment as it was at the start, up to the ray's tmax (the filter
+  // then culls a little less once a hit is found).
+  static BoxFilter up_to_tmax(const RayBoxes& boxes, const WalkLine& line, float tmax) {
+    return {&boxes, box_test_start(line), box_test_end(line, line.stop(tmax))};
+  }
   uint32_t crossed8(const LeafView& leaf, uint32_t first) const {
     if (!boxes || !leaf.boxes) return 0xFFu;
     const uint32_t stride = box_stride(leaf.count);

@@ -78,17 +78,10 @@ struct Grid1D::Cut {
 };
 
 // Where a ray's search may stop (in its walk line's t): the stop distance of its nearest
-// hit so far, or of tmax; and the content boxes' test interval in the ray's own t, from
-// its entry into the scene box to there (docs/design.md §6.7). Tested on the ray's own
-// line, not at all from far away (WalkLine::far).
-inline __m128 box_test_start(const WalkLine& line) {
-  return _mm_set1_ps(line.far ? -std::numeric_limits<float>::infinity()
-                              : float_down(line.shift + line.t0));
-}
-inline void set_stop(const WalkLine& line, float tmax, double& stop, __m128& box_test_end) {
+// hit so far, or of tmax; and the end of the segment its box tests cover.
+inline void set_stop(const WalkLine& line, float tmax, double& stop, __m128& box_test_end_t) {
   stop = line.stop(tmax);
-  box_test_end =
-      _mm_set1_ps(line.far ? std::numeric_limits<float>::infinity() : float_up(line.shift + stop));
+  box_test_end_t = box_test_end(line, stop);
 }
 
 // One ray of a packet (packet.cpp): what the single-ray walk's RayWalk holds about the ray
