@@ -14,18 +14,27 @@ namespace gs {
 
 namespace {
 
-// Records the hit rtcOccluded1 accepts, which Embree does not return itself.
+// Embree's widest packet: the rays a packet query takes at once.
+constexpr size_t kPacketWidth = 16;
+
+// Records the hits rtcOccluded1 and rtcOccluded16 accept, which Embree does not return
+// itself: for each ray (its id, our lane in the packet) the first blocking hit.
 struct OccludedContext {
   RTCIntersectContext context;  // first: Embree hands the filter a pointer to it
-  Hit hit;
+  Hit hits[kPacketWidth];
 };
 
 void record_occluder(const RTCFilterFunctionNArguments* args) {
-  if (args->N != 1 || args->valid[0] == 0) return;
   auto* occluded = reinterpret_cast<OccludedContext*>(args->context);
-  occluded->hit = {int32_t(RTCHitN_primID(args->hit, 1, 0)), RTCRayN_tfar(args->ray, 1, 0),
-                   RTCHitN_u(args->hit, 1, 0), RTCHitN_v(args->hit, 1, 0)};
-  // valid stays -1: the hit is accepted and the query ends.
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    const unsigned lane = RTCRayN_id(args->ray, args->N, i);
+    if (lane >= kPacketWidth) continue;
+    occluded->hits[lane] = {int32_t(RTCHitN_primID(args->hit, args->N, i)),
+                            RTCRayN_tfar(args->ray, args->N, i), RTCHitN_u(args->hit, args->N, i),
+                            RTCHitN_v(args->hit, args->N, i)};
+  }
+  // valid stays -1: the hits are accepted and those rays' queries end.
 }
 
 bool count_memory(void* user, ssize_t bytes, bool /*post*/) {
@@ -134,7 +143,55 @@ Hit EmbreeAccel::any_hit(const Ray& ray, ThreadContext& /*context*/) const {
   RTCRay r = embree_ray(ray);
   rtcOccluded1(scene_, &occluded.context, &r);
   // Embree marks an occluded ray with tfar = -inf; the filter has recorded the hit it took.
-  return r.tfar == -std::numeric_limits<float>::infinity() ? occluded.hit : Hit{};
+  return r.tfar == -std::numeric_limits<float>::infinity() ? occluded.hits[0] : Hit{};
+}
+
+// Embree's packet mode (rtcIntersect16 / rtcOccluded16, coherent-rays hint), 16 rays at a
+// time: the fair comparison for grid1d's packets (docs/design.md §6.9).
+void EmbreeAccel::trace_packet(std::span<const Ray> rays, std::span<const uint64_t> /*keys*/,
+                               std::span<Hit> hits, bool any_hit,
+                               ThreadContext& /*context*/) const {
+  for (size_t first = 0; first < rays.size(); first += kPacketWidth) {
+    const size_t n = std::min(kPacketWidth, rays.size() - first);
+    alignas(64) int valid[kPacketWidth] = {};
+    RTCRayHit16 packet;
+    for (size_t k = 0; k < kPacketWidth; ++k) {
+      const Ray& ray = rays[first + std::min(k, n - 1)];
+      valid[k] = k < n && scene_ && ray_is_valid(ray) ? -1 : 0;
+      packet.ray.org_x[k] = ray.origin.x, packet.ray.org_y[k] = ray.origin.y;
+      packet.ray.org_z[k] = ray.origin.z, packet.ray.tnear[k] = ray.tmin;
+      packet.ray.dir_x[k] = ray.dir.x, packet.ray.dir_y[k] = ray.dir.y;
+      packet.ray.dir_z[k] = ray.dir.z, packet.ray.time[k] = 0.0f;
+      packet.ray.tfar[k] = ray.tmax, packet.ray.mask[k] = std::numeric_limits<unsigned>::max();
+      packet.ray.id[k] = unsigned(k), packet.ray.flags[k] = 0;
+      packet.hit.geomID[k] = packet.hit.primID[k] = packet.hit.instID[0][k] =
+          RTC_INVALID_GEOMETRY_ID;
+    }
+    if (!scene_) {
+      std::fill(hits.begin() + ptrdiff_t(first), hits.begin() + ptrdiff_t(first + n), Hit{});
+      continue;
+    }
+    OccludedContext occluded;
+    rtcInitIntersectContext(&occluded.context);
+    occluded.context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    if (any_hit)
+      rtcOccluded16(valid, scene_, &occluded.context, &packet.ray);
+    else
+      rtcIntersect16(valid, scene_, &occluded.context, &packet);
+    for (size_t k = 0; k < n; ++k) {
+      Hit& hit = hits[first + k];
+      if (valid[k] == 0)
+        hit = {};
+      else if (any_hit)
+        hit = packet.ray.tfar[k] == -std::numeric_limits<float>::infinity() ? occluded.hits[k]
+                                                                            : Hit{};
+      else
+        hit = packet.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID
+                  ? Hit{}
+                  : Hit{int32_t(packet.hit.primID[k]), packet.ray.tfar[k], packet.hit.u[k],
+                        packet.hit.v[k]};
+    }
+  }
 }
 
 StructureStats EmbreeAccel::stats() const {
