@@ -28,7 +28,6 @@ struct Grid1D::PacketWalk {
   uint64_t id;  // the packet's number, for its mailbox
   int step[3];  // +1 or -1: the order of cells along each axis
   uint64_t done = 0;
-  uint64_t size = 0;  // rays in the packet, for the active fraction
 };
 
 namespace {
@@ -106,7 +105,7 @@ void Grid1D::trace_together(std::span<const Ray> rays, std::span<Hit> hits,
       lanes.add(packet[r].prepared, packet[r].tmax);
       context.ray_box_lanes.set(r, packet[r].boxes, packet[r].t_lo, packet[r].t_hi);
     }
-    PacketWalk walk{packet, context, context.packet_mailbox.next_packet(), {}, 0, packet.size()};
+    PacketWalk walk{packet, context, context.packet_mailbox.next_packet(), {}, 0};
     for (int a = 0; a < 3; ++a) walk.step[a] = packet_kind >> a & 1 ? -1 : 1;
     const uint64_t all = packet.size() == 64 ? ~uint64_t{0} : (uint64_t{1} << packet.size()) - 1;
     visit<AnyHit>(root_ref_.load(std::memory_order_acquire), all, t_in, t_out, walk);
@@ -227,7 +226,7 @@ void Grid1D::visit_node(uint32_t id, uint64_t rays, const double* t_in, const do
     if (entering == 0) continue;
     ++counters.packet_steps;
     counters.packet_step_rays += uint64_t(std::popcount(entering));
-    counters.packet_step_slots += walk.size;
+    counters.packet_step_slots += walk.rays.size();
     visit<AnyHit>(ref, entering, child_in, child_out, walk);
   }
 }
