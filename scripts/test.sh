@@ -31,8 +31,9 @@ release() {
 
 # 2. The whole suite again under AddressSanitizer + UndefinedBehaviorSanitizer
 # (build-asan/): any memory error, leak or undefined behaviour fails its test. The gridscope
-# binary the CLI, shot and view tests run is instrumented too. Built at -O1: half the
-# compile time of -O2, and the suites still run in about three minutes.
+# binary the CLI, shot and view tests run is instrumented too. Built at -O1 with line tables
+# only (-g1): half the compile time of -O2 with full debug information, and a report still
+# names file and line.
 asan() {
   cmake --preset asan
   cmake --build --preset asan
