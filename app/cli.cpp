@@ -185,6 +185,7 @@ Parser render_parser() {
       camera_flag(job->camera),
       spp_flag(job->settings.spp),
       bounces_flag(job->settings.bounces),
+      packets_flag(job->settings.packets),
       accel_flag(job->accel),
       threads_flag(job->settings.threads),
       string_flag("--stats", "FILE.json", "writes trace's record, rays counting every ray cast",
@@ -208,6 +209,7 @@ Parser shot_parser() {
       camera_flag(job->camera),
       spp_flag(job->settings.spp),
       bounces_flag(job->settings.bounces),
+      packets_flag(job->settings.packets),
       overlay_flag(job->overlays),
       {"--pixel", "X,Y", "the pixel whose walk the walk overlay shows (default: the centre)",
        [&pixel = job->pixel](const std::string& v) { pixel = parse_pixel(v); }},
@@ -225,6 +227,7 @@ Parser view_parser() {
       camera_flag(job->camera),
       size_flag("--size", "the window size", job->width, job->height),
       accel_flag(job->accel),
+      packets_flag(job->packets),
       overlay_flag(job->overlays),
       int_flag("--frames", "draws at least N frames and the first full-resolution pass, then exits",
                1, 1000000, job->frames),
@@ -236,7 +239,8 @@ Parser view_parser() {
       string_flag("--screenshot", "FILE.png", "saves the window just before exiting",
                   job->screenshot),
       string_flag("--script", "FILE",
-                  "runs lines \"frame N: resize WxH|open SCENE|set NAME VALUE|close\"",
+                  "runs lines \"frame N: resize WxH|open SCENE|set NAME VALUE|close\" (NAME: accel, "
+                  "packets or a structure flag)",
                   job->script),
       string_flag("--stats", "FILE.json", "writes the last frame's figures on exit", job->stats),
   };

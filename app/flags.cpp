@@ -184,6 +184,16 @@ Flag bounces_flag(int& bounces) {
                   0, kMaxBounces, bounces);
 }
 
+Flag packets_flag(bool& packets) {
+  return {"--packets", "on|off",
+          "on: the primary rays of 8x8 pixel blocks, then their shadow rays, are walked together "
+          "by a structure that can (grid1d, embree); same image (default on)",
+          [&packets](const std::string& v) {
+            if (v != "on" && v != "off") bad_value("--packets", v, "on or off");
+            packets = v == "on";
+          }};
+}
+
 Flag threads_flag(int& threads) {
   return int_flag("--threads", "tracing threads (default: all cores)", 1, kMaxThreads, threads);
 }

@@ -54,6 +54,7 @@ Flag size_flag(std::string name, std::string help, int& width, int& height);
 Flag camera_flag(std::optional<Camera>& camera);
 Flag spp_flag(int& spp);
 Flag bounces_flag(int& bounces);
+Flag packets_flag(bool& packets);
 Flag threads_flag(int& threads);
 Flag accel_flag(std::string& accel);
 Flag overlay_flag(OverlaySelection& overlays);

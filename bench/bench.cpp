@@ -225,15 +225,20 @@ uint64_t count_disagreements(const RenderSettings& settings, const std::vector<H
   return differing;
 }
 
-// Renders every `stride`-th row (in the order the threads take them): a slow structure's
-// image, timed on a fraction of it.
+// Renders every `stride`-th band of rows (in the order the threads take them): a slow
+// structure's image, timed on a fraction of it. `scale` becomes bands / bands rendered.
 RenderOutcome strided_render(const BenchScene& bench, const Accelerator& accel,
-                             const Camera& camera, const RenderSettings& settings, int stride) {
-  std::atomic<int> turn{0};
+                             const Camera& camera, const RenderSettings& settings, int stride,
+                             double& scale) {
+  std::atomic<int> turn{0}, rendered{0};
   const RowRunner every_kth = [&](const std::function<void()>& render_row) {
-    if (turn.fetch_add(1) % stride == 0) render_row();
+    if (turn.fetch_add(1) % stride != 0) return;
+    render_row();
+    rendered.fetch_add(1);
   };
-  return render_pass(*bench.scene, accel, camera, settings, 1, 0, nullptr, every_kth);
+  RenderOutcome outcome = render_pass(*bench.scene, accel, camera, settings, 1, 0, nullptr, every_kth);
+  scale = double(turn.load()) / double(std::max(1, rendered.load()));
+  return outcome;
 }
 
 // The structure for a configuration: zero replays the reference's answers.
@@ -242,7 +247,7 @@ std::unique_ptr<Accelerator> make_structure(const Config& config, const Referenc
   return make_accelerator(config.accel, config.params);
 }
 
-// Estimated seconds of one full render, from every 32nd row (the rows in the order the
+// Estimated seconds of one full render, from every 32nd band of rows (in the order the
 // threads take them) until `budget` seconds have gone: so that the probe of a structure
 // that breaks down costs little. The probe's lazy building (at most 1/32 of the image) is
 // then missing from the first pass's figure.
@@ -261,7 +266,7 @@ double estimate_render_seconds(const BenchScene& bench, const Accelerator& accel
   };
   const double seconds =
       render_pass(*bench.scene, accel, camera, settings, 1, 0, nullptr, probe).seconds;
-  return seconds * double(settings.height) / double(std::max(1, rendered.load()));
+  return seconds * double(turn.load()) / double(std::max(1, rendered.load()));
 }
 
 void fill_structure_figures(json& record, const Accelerator& accel, const RenderOutcome& warm) {
@@ -271,6 +276,11 @@ void fill_structure_figures(json& record, const Accelerator& accel, const Render
   const double rays = double(std::max<uint64_t>(warm.rays, 1));
   if (stats.counts_tests) record["tests_per_ray"] = double(warm.counters.intersection_tests) / rays;
   if (stats.counts_steps) record["steps_per_ray"] = double(warm.counters.traversal_steps) / rays;
+  // Why packets gain what they gain: how full their steps were, how many rays left them.
+  if (warm.counters.packet_steps > 0)
+    record["packet_active_fraction"] = warm.counters.packet_active_fraction();
+  if (const uint64_t offered = warm.counters.packet_rays + warm.counters.packet_fallback_rays)
+    record["packet_fallback_fraction"] = double(warm.counters.packet_fallback_rays) / double(offered);
 }
 
 void fill_times(json& record, double trace_seconds, uint64_t rays) {
@@ -283,11 +293,12 @@ void fill_times(json& record, double trace_seconds, uint64_t rays) {
 void measure_over_cap(json& record, const Config& config, const Accelerator& accel,
                       double estimate) {
   const int stride = std::min(config.settings.height, int(std::ceil(estimate / config.time_cap)));
+  double scale = 1.0;
   const RenderOutcome part =
-      strided_render(*config.scene, accel, config.camera, config.settings, stride);
+      strided_render(*config.scene, accel, config.camera, config.settings, stride, scale);
   record["over_time_cap"] = true;
-  record["first_pass_seconds"] = part.seconds * stride;
-  fill_times(record, part.seconds * stride, part.rays * uint64_t(stride));
+  record["first_pass_seconds"] = part.seconds * scale;
+  fill_times(record, part.seconds * scale, uint64_t(double(part.rays) * scale));
   fill_structure_figures(record, accel, part);
 }
 
@@ -491,6 +502,8 @@ class BenchRun {
     settings.threads = threads;
     settings.bounces = bounces;
     settings.light = bench.light;
+    // One ray at a time unless a measurement asks for packets (setting "packets").
+    settings.packets = false;
     return {&bench,
             camera_for(bench.camera, *bench.scene, settings),
             accel,
@@ -535,10 +548,17 @@ class BenchRun {
     if (bounces == 0 && threads == 1) zero_seconds_ = zero_seconds;
     add(std::move(floor.record));
     for (const std::string& accel : accels_) {
-      Measurement m = measure(run_, config(bench, accel, protocol_.side, threads, bounces),
-                              "default", workload, &reference);
+      Config single = config(bench, accel, protocol_.side, threads, bounces);
+      Measurement m = measure(run_, single, "default", workload, &reference);
       m.record["relative_to_zero"] = m.record["trace_seconds"].get<double>() / zero_seconds;
       add(std::move(m.record));
+      if (!find_structure(accel)->traces_packets) continue;
+      // The same rays by packets (8x8 pixel blocks, then their shadow rays).
+      Config packets = single;
+      packets.settings.packets = true;
+      Measurement p = measure(run_, packets, "packets", workload, &reference);
+      p.record["relative_to_zero"] = p.record["trace_seconds"].get<double>() / zero_seconds;
+      add(std::move(p.record));
     }
   }
 

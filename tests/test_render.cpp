@@ -8,11 +8,13 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "core/accel/brute.h"
 #include "core/accel/grid1d/grid1d.h"
+#include "core/accel/registry.h"
 #include "core/accel/zero_overhead.h"
 #include "core/base/error.h"
 #include "core/geometry/ray_io.h"
@@ -259,6 +261,94 @@ TEST(RenderReplay, ZeroReproducesTheRecordedImageExactly) {
     }
 }
 
+RenderSettings with_packets(RenderSettings settings, bool packets) {
+  settings.packets = packets;
+  return settings;
+}
+
+// Packets (8x8 blocks of primary rays, then their shadow rays) change how rays are traced,
+// never what they answer: each ray's answer and the image are those of single rays, and for
+// grid1d those of brute force (nearest hits bit for bit; shadow rays blocked or not, as
+// any-hit may name another blocker). 37x21 leaves partial blocks at the right and bottom.
+TEST(RenderPackets, AnswerAsSingleRaysAndBruteForce) {
+  const Scene scene = load_scene("builtin:pyramid");
+  const Camera camera = frame_box(scene.bounds(), 37.0f / 21.0f);
+  std::vector<std::string> accels = {"grid1d"};
+  if (find_structure("embree")->available()) accels.push_back("embree");
+  for (const int bounces : {0, 1})
+    for (const int spp : {1, 3}) {
+      const RenderSettings single = with_packets(settings_of(37, 21, spp, bounces, 1), false);
+      const Recorded brute = record(scene, "brute", camera, single);
+      for (const std::string& accel : accels)
+        for (const int threads : {1, 2}) {
+          const std::string what = accel + ", bounces " + std::to_string(bounces) + ", spp " +
+                                   std::to_string(spp) + ", threads " + std::to_string(threads);
+          RenderSettings settings = settings_of(37, 21, spp, bounces, threads);
+          const Recorded off = record(scene, accel, camera, with_packets(settings, false));
+          const Recorded on = record(scene, accel, camera, with_packets(settings, true));
+          // Embree counts nothing of its own walk.
+          if (accel == "grid1d") {
+            EXPECT_GT(on.outcome.counters.packets, 0u) << what;
+          }
+          EXPECT_EQ(off.outcome.counters.packets, 0u) << what;
+          EXPECT_EQ(on.answers, off.answers) << what;
+          EXPECT_EQ(on.outcome.image.rgba, off.outcome.image.rgba) << what;
+          EXPECT_EQ(on.outcome.rays, off.outcome.rays) << what;
+          if (accel != "grid1d") continue;
+          EXPECT_EQ(on.outcome.image.rgba, brute.outcome.image.rgba) << what;
+          for (size_t key = 0; key < on.answers.size(); ++key)
+            if (key % 2 == size_t(RayKind::nearest))
+              ASSERT_EQ(on.answers[key], brute.answers[key]) << what << ", key " << key;
+            else
+              ASSERT_EQ(on.answers[key].found(), brute.answers[key].found())
+                  << what << ", key " << key;
+        }
+    }
+}
+
+// With packets a pixel's record holds its share of its block's cost: the shares add up to
+// what the render's counters say, as single rays' records do.
+TEST(RenderPackets, PixelRecordsAddUpToTheCounters) {
+  const Scene scene = load_scene("builtin:lumpy");
+  const Camera camera = frame_box(scene.bounds(), 1.0f);
+  for (const bool packets : {false, true}) {
+    const Recorded run =
+        record(scene, "grid1d", camera, with_packets(settings_of(20, 20, 2, 0, 2), packets));
+    uint64_t steps = 0, tests = 0;
+    for (const PixelRecord& pixel : run.outcome.pixels) steps += pixel.steps, tests += pixel.tests;
+    EXPECT_EQ(steps, run.outcome.counters.traversal_steps) << "packets " << packets;
+    EXPECT_EQ(tests, run.outcome.counters.intersection_tests) << "packets " << packets;
+    EXPECT_GT(tests, 0u);
+  }
+}
+
+// The viewer's passes (coarse, full, accumulated) give the same images by packets.
+TEST(RenderPackets, ProgressivePassesMatchSingleRays) {
+  const Scene scene = load_scene("builtin:pyramid");
+  const Camera camera = frame_box(scene.bounds(), 29.0f / 19.0f);
+  const std::unique_ptr<Accelerator> accel = make_accelerator("grid1d", AccelParams{});
+  accel->build(scene);
+  for (const int stride : {8, 1}) {
+    std::vector<Image> images;
+    for (const bool packets : {false, true}) {
+      const RenderSettings settings = with_packets(settings_of(29, 19, 1, 0, 2), packets);
+      images.push_back(render_pass(scene, *accel, camera, settings, stride, 0, nullptr).image);
+    }
+    EXPECT_EQ(images[0].rgba, images[1].rgba) << "stride " << stride;
+  }
+  std::vector<std::vector<glm::vec3>> sums(2, std::vector<glm::vec3>(29 * 19));
+  for (int spp = 2; spp <= 4; ++spp) {
+    std::vector<Image> images;
+    for (const bool packets : {false, true}) {
+      const RenderSettings settings = with_packets(settings_of(29, 19, spp, 1, 2), packets);
+      images.push_back(
+          render_pass(scene, *accel, camera, settings, 1, spp == 2 ? 0 : spp - 1, &sums[packets])
+              .image);
+    }
+    EXPECT_EQ(images[0].rgba, images[1].rgba) << "spp " << spp;
+  }
+}
+
 TEST(RenderReplay, ZeroRefusesAnOracleOfTheWrongLength) {
   const Scene scene = open_floor();
   const RenderSettings settings = settings_of(4, 4, 1, 0, 1);
@@ -281,6 +371,30 @@ TEST(RenderCli, BadBouncesExitWithStatus2) {
       EXPECT_EQ(run.status, 2) << command << " --bounces " << value << ": " << run.err;
       EXPECT_NE(run.err.find("--bounces"), std::string::npos) << run.err;
     }
+}
+
+TEST(RenderCli, PacketsOnAndOffWriteTheSamePngAndHits) {
+  std::vector<std::string> outputs;
+  for (const std::string packets : {"on", "off"}) {
+    const std::string png = temp_path("packets-" + packets + ".png"),
+                      hits = temp_path("packets-" + packets + ".hits"),
+                      stats = temp_path("packets-" + packets + ".json");
+    const test::CommandOutcome run = test::run_gridscope(
+        "render builtin:lumpy --size 24x16 --spp 2 --threads 2 --packets " + packets +
+        " --out " + quoted(png) + " --record-hits " + quoted(hits) + " --stats " + quoted(stats));
+    ASSERT_EQ(run.status, 0) << run.err;
+    outputs.push_back(test::slurp(png) + test::slurp(hits));
+    const nlohmann::json figures = nlohmann::json::parse(test::slurp(stats));
+    EXPECT_EQ(figures["parameters"]["packets"], packets == "on");
+    EXPECT_EQ(figures["packets"].is_null(), packets == "off") << figures["packets"];
+  }
+  EXPECT_EQ(outputs[0], outputs[1]);
+  for (const std::string command : {"render", "shot"}) {
+    const test::CommandOutcome run = test::run_gridscope(
+        command + " builtin:pyramid --size 8x8 --packets yes --out " + quoted(temp_path("x.png")));
+    EXPECT_EQ(run.status, 2) << command << ": " << run.err;
+    EXPECT_NE(run.err.find("--packets"), std::string::npos) << run.err;
+  }
 }
 
 TEST(RenderCli, RecordedHitsReplayWithZeroIntoTheSamePng) {

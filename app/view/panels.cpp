@@ -111,6 +111,17 @@ void statistics_tab(const ViewState& state, const OverlayCache& overlays) {
   ImGui::Text("%s, %zu triangles, pass %d, %d spp, %.3g rays/s, %llu rays", setup.accel.c_str(),
               setup.scene->triangle_count(), frame.pass, frame.spp, frame.rays_per_second,
               (unsigned long long)frame.rays);
+  const TraceCounters& c = frame.counters;
+  if (c.packet_rays + c.packet_fallback_rays > 0)
+    ImGui::Text("packets: %llu rays in %llu packets, %.0f%% active per step, %llu fell back "
+                "to single rays; pass %d done %.2f s after the restart",
+                (unsigned long long)c.packet_rays, (unsigned long long)c.packets,
+                100.0 * c.packet_active_fraction(), (unsigned long long)c.packet_fallback_rays,
+                frame.pass, frame.seconds);
+  else
+    ImGui::Text("packets: %s; pass %d done %.2f s after the restart",
+                setup.packets ? "none walked (this structure traces rays one at a time)" : "off",
+                frame.pass, frame.seconds);
   ImGui::Text("nodes %s  subdivided %s  leaves %s  states %s  memory %.1f MB (budget %s)",
               optional_figure(s.nodes).c_str(), optional_figure(s.voxels_subdivided).c_str(),
               optional_figure(s.leaves).c_str(), optional_figure(s.traversal_states).c_str(),

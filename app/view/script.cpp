@@ -57,6 +57,11 @@ std::optional<std::array<int, 2>> window_size(const std::string& word) {
 
 // `set NAME VALUE`'s value, checked as the command line checks it; throws UsageError.
 void check_setting(const std::string& name, const std::string& value) {
+  if (name == "packets") {
+    if (value != "on" && value != "off")
+      throw UsageError("set packets '" + value + "': expected on or off");
+    return;
+  }
   if (name != "accel") {
     AccelParams checked;
     apply_structure_flag(checked, "--" + name, value);

@@ -39,6 +39,11 @@ void Session::set_structure(const std::string& accel, const AccelParams& params)
   restart();
 }
 
+void Session::set_packets(bool packets) {
+  setup_.packets = packets;
+  restart();
+}
+
 void Session::set_scene(std::shared_ptr<const Scene> scene, const Camera& camera) {
   setup_.scene = std::move(scene);
   setup_.camera = camera;

@@ -31,6 +31,9 @@ class Session {
   void move_camera(const Camera& camera);
   void resize(int width, int height);
   void set_structure(const std::string& accel, const AccelParams& params);
+  // Primary and shadow rays by packets or one at a time: the passes restart on the same
+  // structure.
+  void set_packets(bool packets);
   void set_scene(std::shared_ptr<const Scene> scene, const Camera& camera);
 
   // Takes the renderer's newest frame if it is newer than the one shown; true then.

@@ -59,6 +59,11 @@ void StructureEditor::controls(ViewState& state) {
       if (spec.structure_flag) param_control(spec, use.default_text);
     }
   if (ImGui::Button("Apply (rebuild)")) apply(state);
+  bool packets = state.session.setup().packets;
+  if (ImGui::Checkbox("packets", &packets)) state.session.set_packets(packets);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("Primary rays of 8x8 pixel blocks, then their shadow rays, walked together "
+                      "by structures that can (grid1d, embree); the same image either way");
 }
 
 void StructureEditor::param_control(const ParamSpec& spec, const std::string& default_text) {
@@ -91,6 +96,7 @@ void StructureEditor::param_control(const ParamSpec& spec, const std::string& de
 }
 
 void StructureEditor::set(ViewState& state, const std::string& name, const std::string& value) {
+  if (name == "packets") return state.session.set_packets(value == "on");
   if (name == "accel") {
     accel_ = value;
   } else {

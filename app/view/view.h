@@ -24,6 +24,7 @@ struct ViewJob {
   std::optional<Camera> camera;
   std::string accel = "grid1d";
   AccelParams params;
+  bool packets = true;             // --packets on|off: RenderSettings::packets
   int width = 1280, height = 800;  // the window
   int frames = 0;                  // 0: interactive; N: exit after N frames (and the first pass)
   std::optional<std::array<double, 2>> click;  // fractions of the viewport

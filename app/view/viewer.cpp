@@ -30,6 +30,7 @@ Viewer::Viewer(const ViewJob& job, std::shared_ptr<const Scene> scene,
       structure_(job.accel, job.params),
       panels_(structure_, overlays_, camera_input_, scene_) {
   if (script_.scripted()) glfwSwapInterval(0);  // scripts need no vsync
+  state_.session.set_packets(job.packets);
 }
 
 void Viewer::run() {

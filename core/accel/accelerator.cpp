@@ -30,6 +30,10 @@ void TraceCounters::add(const TraceCounters& other) {
   packet_step_slots += other.packet_step_slots;
 }
 
+double TraceCounters::packet_active_fraction() const {
+  return packet_step_slots > 0 ? double(packet_step_rays) / double(packet_step_slots) : 0.0;
+}
+
 void Accelerator::trace_packet(std::span<const Ray> rays, std::span<const uint64_t> keys,
                                std::span<Hit> hits, bool any_hit, ThreadContext& context) const {
   GRIDSCOPE_CHECK(rays.size() <= kMaxPacketRays && keys.size() == rays.size() &&

@@ -38,6 +38,9 @@ struct TraceCounters {
   uint64_t packet_step_slots = 0;     // rays of the packet in those steps, summed
 
   void add(const TraceCounters& other);
+  // Active rays per packet step over the packet's rays (1: every ray of the packet needed
+  // every cell it stepped into); 0 without packet steps.
+  double packet_active_fraction() const;
 };
 
 // Per-thread scratch a structure needs while tracing (mailboxes, traversal state values).

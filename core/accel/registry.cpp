@@ -75,7 +75,8 @@ std::vector<Structure> make_structures() {
                  {Param::travcost, {0.5, 2}},
                  {Param::vertcost, {3, 12}},
                  {Param::subcost, {1, 4}}},
-       .colour = {214, 39, 40}},  // red
+       .colour = {214, 39, 40},  // red
+       .traces_packets = true},
       {.name = "bvh",
        .description = "binned SAH bounding volume hierarchy, built up front",
        .group = StructureGroup::modern,
@@ -96,7 +97,8 @@ std::vector<Structure> make_structures() {
        .missing = "gridscope was built without Embree",
 #endif
        .params = {uses(Param::build_threads)},
-       .colour = {140, 86, 75}},  // brown
+       .colour = {140, 86, 75},  // brown
+       .traces_packets = true},
       {.name = "brute",
        .description = "every ray against every triangle: the reference answers",
        .group = StructureGroup::reference,

@@ -56,6 +56,9 @@ struct Structure {
   // brute, the reference, takes every structure flag and ignores it, so that any command
   // line can be run again against the reference by changing --accel alone.
   bool takes_any_flag = false;
+  // Walks packets of rays together (Accelerator::traces_packets): the bench measures it
+  // with packets too.
+  bool traces_packets = false;
 
   bool available() const { return make != nullptr; }
   // Its use of `param`, or nullptr when it does not read it.

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/base/error.h"
+#include "core/base/timing.h"
 
 namespace gs {
 
@@ -29,10 +30,11 @@ struct StructureKey {
   }
 };
 
-// A width x height image with spp samples per pixel; render's defaults otherwise.
-RenderSettings image_settings(int width, int height, int spp, int threads) {
+// The view's image with spp samples per pixel; render's defaults otherwise.
+RenderSettings image_settings(const ViewSetup& setup, int spp) {
   RenderSettings settings;
-  settings.width = width, settings.height = height, settings.spp = spp, settings.threads = threads;
+  settings.width = setup.width, settings.height = setup.height, settings.spp = spp;
+  settings.threads = setup.threads, settings.packets = setup.packets;
   return settings;
 }
 
@@ -61,6 +63,7 @@ struct ProgressiveRenderer::State {
   bool stop = false;
   uint64_t generation = 0;
   ViewSetup setup;
+  Clock::time_point restarted;  // when `generation` began: frames count their time from it
   // Whether the current generation's structure is known (built and sampled, or failed, or
   // none for no scene); `structure` is it then (null: none).
   bool settled = true;
@@ -140,7 +143,8 @@ struct ProgressiveRenderer::State {
   }
 
   void controller_loop();
-  void run_generation(uint64_t gen, const ViewSetup& setup, std::shared_ptr<Accelerator> accel);
+  void run_generation(uint64_t gen, const ViewSetup& setup, Clock::time_point start,
+                      std::shared_ptr<Accelerator> accel);
 };
 
 void ProgressiveRenderer::State::controller_loop() {
@@ -148,6 +152,7 @@ void ProgressiveRenderer::State::controller_loop() {
   for (;;) {
     uint64_t gen = 0;
     ViewSetup current;
+    Clock::time_point start;
     std::shared_ptr<Accelerator> accel;
     {
       std::unique_lock lock(mutex);
@@ -155,6 +160,7 @@ void ProgressiveRenderer::State::controller_loop() {
       if (stop) return;
       gen = done = generation;
       current = setup;
+      start = restarted;
       if (!current.scene || current.width <= 0 || current.height <= 0) {
         // Nothing to render: no structure, no frames.
         settled = true;
@@ -176,11 +182,12 @@ void ProgressiveRenderer::State::controller_loop() {
         ready_key.reset();
       }
     }
-    run_generation(gen, current, std::move(accel));
+    run_generation(gen, current, start, std::move(accel));
   }
 }
 
 void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& setup,
+                                                Clock::time_point start,
                                                 std::shared_ptr<Accelerator> accel) {
   auto abandoned = [&] {
     return stopping.load(std::memory_order_relaxed) ||
@@ -189,7 +196,7 @@ void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& s
   int last_pass = 0;
   try {
     const int w = setup.width, h = setup.height;
-    const RenderSettings centre = image_settings(w, h, 1, setup.threads);
+    const RenderSettings centre = image_settings(setup, 1);
     check_render_settings(centre);
     if (!accel) {
       // A new structure: built and sampled here (not cancellable; the image's sampling pass
@@ -234,6 +241,8 @@ void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& s
       frame->pixels = std::move(pixels);
       frame->rays_per_second = outcome.seconds > 0.0 ? double(outcome.rays) / outcome.seconds : 0.0;
       frame->rays = rays;
+      frame->seconds = seconds_since(start);
+      frame->counters = outcome.counters;
       frame->structure = accel->stats();
       frame->structure.build_seconds += lazy_seconds;
       std::lock_guard lock(mutex);
@@ -257,7 +266,7 @@ void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& s
     std::vector<glm::vec3> sums(size_t(w) * size_t(h));
     for (int spp = 2; spp <= max_spp; ++spp) {
       const int first = spp == 2 ? 0 : spp - 1;
-      const RenderSettings settings = image_settings(w, h, spp, setup.threads);
+      const RenderSettings settings = image_settings(setup, spp);
       outcome = render_pass(scene, *accel, setup.camera, settings, 1, first, &sums, run_row);
       if (abandoned()) return;
       if (first == 0) {
@@ -312,6 +321,7 @@ void ProgressiveRenderer::restart(const ViewSetup& setup) {
   State& s = *state_;
   std::lock_guard lock(s.mutex);
   s.setup = setup;
+  s.restarted = Clock::now();
   s.live_generation = ++s.generation;
   s.busy = true;
   if (s.ready && s.ready_key && *s.ready_key == StructureKey(setup) && setup.width > 0 &&

@@ -34,6 +34,7 @@ struct ViewSetup {
   int width = 0, height = 0;
   int threads = default_thread_count();
   int max_spp = 256;  // accumulation stops here
+  bool packets = true;  // RenderSettings::packets; a change keeps the structure
 };
 
 // A snapshot the UI thread can draw. The image is RGBA8 (row-major from the top-left);
@@ -47,6 +48,8 @@ struct ProgressiveFrame {
   std::vector<PixelRecord> pixels;
   double rays_per_second = 0.0;  // of the last finished pass
   uint64_t rays = 0;             // traced since the restart
+  double seconds = 0.0;          // from the restart to this pass's end (build included)
+  TraceCounters counters;        // of the last finished pass (packet figures among them)
   StructureStats structure;      // of the structure the frame was rendered with
   std::string error;             // a failed build or render: what went wrong, one line
 };

@@ -3,11 +3,13 @@
 #include <stb_image_write.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <glm/geometric.hpp>
 #include <optional>
+#include <span>
 #include <stdexcept>
 
 #include "core/base/error.h"
@@ -33,27 +35,50 @@ float hashed_unit(uint32_t seed, uint32_t stream) {
   return unit_float(mix_bits(seed ^ mix_bits(stream)));
 }
 
-// Casts one sample's rays, each under its key (set as the context's ray_index, so that
-// "zero" finds its answer), counting them and, when answers is given, recording them.
-struct SampleTracer {
-  const Scene& scene;
+// The rays a render casts go through here, each under its key (set as the context's
+// ray_index, or passed to trace_packet, so that "zero" finds its answer), counted and, when
+// answers is given, recorded.
+struct RayCaster {
   const Accelerator& accel;
   ThreadContext& context;
-  const RenderSettings& settings;
-  const Lighting& lighting;
   Hit* answers;  // render_ray_keys() hits, or null
   uint64_t& rays;
-  size_t pixel;
-  int sample;
 
-  Hit cast(const Ray& ray, int bounce, RayKind kind) {
-    const uint64_t key = render_ray_key(settings, pixel, sample, bounce, kind);
+  Hit cast(const Ray& ray, uint64_t key, RayKind kind) {
     context.ray_index = key;
     ++rays;
     const Hit hit =
         kind == RayKind::nearest ? accel.intersect(ray, context) : accel.any_hit(ray, context);
     if (answers) answers[key] = hit;  // keys are disjoint between threads: no lock
     return hit;
+  }
+
+  // Up to kMaxPacketRays rays of one kind walked together (Accelerator::trace_packet):
+  // each answer is the one cast() gives.
+  void cast_packet(std::span<const Ray> packet, std::span<const uint64_t> keys, std::span<Hit> hits,
+                   RayKind kind) {
+    if (packet.empty()) return;
+    rays += packet.size();
+    accel.trace_packet(packet, keys, hits, kind == RayKind::shadow, context);
+    if (answers)
+      for (size_t i = 0; i < packet.size(); ++i) answers[keys[i]] = hits[i];
+  }
+};
+
+// One sample of one pixel: casts its rays under their keys.
+struct SampleTracer {
+  const Scene& scene;
+  RayCaster& caster;
+  const RenderSettings& settings;
+  const Lighting& lighting;
+  size_t pixel;
+  int sample;
+
+  uint64_t key(int bounce, RayKind kind) const {
+    return render_ray_key(settings, pixel, sample, bounce, kind);
+  }
+  Hit cast(const Ray& ray, int bounce, RayKind kind) {
+    return caster.cast(ray, key(bounce, kind), kind);
   }
 };
 
@@ -97,19 +122,11 @@ glm::vec3 bounce_light(SampleTracer& tracer, const Surface& surface, int bounce)
   return kAlbedo * ((1.0f - kAmbient) * lambert + bounce_light(tracer, next, bounce + 1));
 }
 
-// Display-space colour of one primary ray; reports its hit's t (+inf for a miss) for the
-// pixel's depth.
-glm::vec3 shade(SampleTracer& tracer, const Ray& ray, float& hit_t) {
-  static const glm::vec3 background =
-      glm::vec3(kBackground[0], kBackground[1], kBackground[2]) / 255.0f;
-  const Hit hit = tracer.cast(ray, 0, RayKind::nearest);
-  hit_t = hit.t;
-  if (!hit.found()) return background;
-  const Surface surface = surface_at(tracer.scene, hit, ray.dir);
-  // With no bounces the sum adds an exact 0: the paper's workload's colours, unchanged.
-  const float lambert = direct_light(tracer, surface, 0);
-  const glm::vec3 linear = kAlbedo * (kAmbient + (1.0f - kAmbient) * lambert) +
-                           kAlbedo * bounce_light(tracer, surface, 1);
+// Display-space colour of a primary ray's hit lit by `lambert` (0 when shadowed) and by
+// the light its bounces brought.
+glm::vec3 display_colour(float lambert, const glm::vec3& bounced) {
+  const glm::vec3 linear =
+      kAlbedo * (kAmbient + (1.0f - kAmbient) * lambert) + kAlbedo * bounced;
   return glm::pow(glm::min(linear, 1.0f), glm::vec3(1.0f / 2.2f));
 }
 
@@ -119,66 +136,171 @@ uint32_t count_since(uint64_t now, uint64_t before) {
   return uint32_t(std::min<uint64_t>(now - before, UINT32_MAX));
 }
 
-// What the pixel's rays cost, from the thread's counters before and after it: the context
-// belongs to this thread alone, so the difference is exactly this pixel's work.
-void record_costs(const TraceCounters& before, const TraceCounters& after, PixelRecord& record) {
-  record.steps = count_since(after.traversal_steps, before.traversal_steps);
-  record.tests = count_since(after.intersection_tests, before.intersection_tests);
-  record.built = count_since(after.voxels_built, before.voxels_built);
-}
+// Packets trace blocks of 8x8 pixels (kMaxPacketRays rays): the primary rays of neighbouring
+// pixels, and the shadow rays from their hits toward the one light, walk nearly the same cells.
+constexpr int kPacketSide = 8;
+constexpr size_t kMaxBlock = Accelerator::kMaxPacketRays;
+static_assert(kPacketSide * kPacketSide == kMaxBlock);
 
-// Shades one tile row of the image. With stride 1 the tile row is image row `ty` and each
-// pixel takes samples [first_sample, settings.spp), added to its running sum in `sums` when
-// given (the image shows the sum over settings.spp samples). With stride > 1 (the coarse
-// pass) one ray goes through the pixel image_sample_pixels picks in each stride x stride
-// tile, whose pixels all get its colour and record. rgba and records are the whole image's.
-void shade_row(const Scene& scene, const Accelerator& accel, ThreadContext& context,
-               const Camera& camera, const RenderSettings& settings, const Lighting& lighting,
-               int stride, int ty, int first_sample, glm::vec3* sums, uint8_t* rgba,
-               PixelRecord* records, Hit* answers, uint64_t& rays) {
-  const int w = settings.width, h = settings.height, spp = settings.spp;
+// A pixel a block traces: where its ray goes through the image, and its index.
+struct BlockPixel {
+  int x, y;
+  size_t index;
+};
+
+// Shades blocks of pixels: one pixel at a time (single rays), or up to kMaxBlock pixels whose
+// primary rays, then shadow rays, go to trace_packet together. Bounces, which scatter, are
+// traced one at a time either way.
+struct BlockShader {
+  const Scene& scene;
+  RayCaster& caster;
+  const Camera& camera;
+  const RenderSettings& settings;
+  const Lighting& lighting;
+  bool packets;
   const glm::vec3 forward = camera.forward();
-  const int py = stride == 1 ? ty : std::min(ty * stride + stride / 2, h - 1);
-  for (int tx = 0; tx * stride < w; ++tx) {
-    const int px = stride == 1 ? tx : std::min(tx * stride + stride / 2, w - 1);
-    const size_t index = size_t(py) * size_t(w) + size_t(px);
-    PixelRecord& record = records[index];
-    const TraceCounters before = context.counters;
-    glm::vec3 sum = sums && first_sample > 0 ? sums[index] : glm::vec3(0.0f);
-    const uint32_t seed = mix_bits(uint32_t(py) * uint32_t(w) + uint32_t(px));
-    for (int s = first_sample; s < spp; ++s) {
+
+  // Rays of one kind, each answered as cast() answers it.
+  void cast_all(std::span<const Ray> rays, std::span<const uint64_t> keys, std::span<Hit> hits,
+                RayKind kind) {
+    if (packets) return caster.cast_packet(rays, keys, hits, kind);
+    for (size_t i = 0; i < rays.size(); ++i) hits[i] = caster.cast(rays[i], keys[i], kind);
+  }
+
+  // Adds sample s of each pixel (pixel centres for spp 1, a fixed jitter otherwise) to its
+  // colour; with sample 0, sets its record's depth.
+  void shade_sample(std::span<const BlockPixel> pixels, int s, glm::vec3* colours,
+                    PixelRecord* records) {
+    static const glm::vec3 background =
+        glm::vec3(kBackground[0], kBackground[1], kBackground[2]) / 255.0f;
+    const int w = settings.width, h = settings.height, spp = settings.spp;
+    const size_t n = pixels.size();
+    std::array<Ray, kMaxBlock> primary, shadow;
+    std::array<uint64_t, kMaxBlock> keys, shadow_keys;
+    std::array<Hit, kMaxBlock> hits, blocked;
+    for (size_t i = 0; i < n; ++i) {
+      const uint32_t seed = mix_bits(uint32_t(pixels[i].y) * uint32_t(w) + uint32_t(pixels[i].x));
       const float jx = spp == 1 ? 0.5f : hashed_unit(seed, 2 * uint32_t(s));
       const float jy = spp == 1 ? 0.5f : hashed_unit(seed, 2 * uint32_t(s) + 1);
-      const Ray ray = camera.primary_ray(px, py, w, h, jx, jy);
-      SampleTracer tracer{scene, accel, context, settings, lighting, answers, rays, index, s};
-      float hit_t = 0.0f;
-      sum += shade(tracer, ray, hit_t);
+      primary[i] = camera.primary_ray(pixels[i].x, pixels[i].y, w, h, jx, jy);
+      keys[i] = render_ray_key(settings, pixels[i].index, s, 0, RayKind::nearest);
+    }
+    cast_all({primary.data(), n}, {keys.data(), n}, {hits.data(), n}, RayKind::nearest);
+    // The shadow rays of the hits whose surface faces the light.
+    std::array<Surface, kMaxBlock> surfaces;
+    std::array<float, kMaxBlock> lambert{};
+    std::array<size_t, kMaxBlock> lit;
+    size_t shadows = 0;
+    for (size_t i = 0; i < n; ++i) {
+      if (!hits[i].found()) continue;
+      surfaces[i] = surface_at(scene, hits[i], primary[i].dir);
+      const std::optional<LightPath> path = light_path(surfaces[i], lighting);
+      if (!path) continue;
+      lambert[i] = path->lambert;
+      shadow[shadows] = path->shadow;
+      shadow_keys[shadows] = render_ray_key(settings, pixels[i].index, s, 0, RayKind::shadow);
+      lit[shadows++] = i;
+    }
+    cast_all({shadow.data(), shadows}, {shadow_keys.data(), shadows}, {blocked.data(), shadows},
+             RayKind::shadow);
+    for (size_t k = 0; k < shadows; ++k)
+      if (blocked[k].found()) lambert[lit[k]] = 0.0f;
+    for (size_t i = 0; i < n; ++i) {
       // t is in units of the unnormalised direction: its projection on the unit forward
       // vector turns it into distance along the view axis (what a depth buffer compares).
-      if (s == 0) record.depth = std::isinf(hit_t) ? hit_t : hit_t * glm::dot(ray.dir, forward);
-    }
-    if (sums) sums[index] = sum;
-    record_costs(before, context.counters, record);
-    const glm::vec3 colour = glm::clamp(sum / float(spp), 0.0f, 1.0f) * 255.0f + 0.5f;
-    uint8_t* pixel = &rgba[4 * index];
-    for (int k = 0; k < 3; ++k) pixel[k] = uint8_t(colour[k]);
-    pixel[3] = 255;
-    if (stride == 1) continue;
-    // Fill the tile with the ray's pixel.
-    const int x0 = tx * stride, y0 = ty * stride;
-    const int x1 = std::min(x0 + stride, w), y1 = std::min(y0 + stride, h);
-    for (int y = y0; y < y1; ++y)
-      for (int x = x0; x < x1; ++x) {
-        const size_t other = size_t(y) * size_t(w) + size_t(x);
-        if (other == index) continue;
-        records[other] = record;
-        std::copy(pixel, pixel + 4, &rgba[4 * other]);
+      const float t = hits[i].t;
+      if (s == 0)
+        records[pixels[i].index].depth =
+            std::isinf(t) ? t : t * glm::dot(primary[i].dir, forward);
+      if (!hits[i].found()) {
+        colours[i] += background;
+        continue;
       }
+      // With no bounces the sum adds an exact 0: the paper's workload's colours, unchanged.
+      SampleTracer tracer{scene, caster, settings, lighting, pixels[i].index, s};
+      colours[i] += display_colour(lambert[i], bounce_light(tracer, surfaces[i], 1));
+    }
+  }
+
+  // Shades samples [first_sample, spp) of each pixel, added to its running sum in `sums`
+  // when given (the image shows the sum over spp samples). The pixels' records share what
+  // the block's rays cost (a pixel of its own with single rays: exactly its rays' cost).
+  void shade_block(std::span<const BlockPixel> pixels, int first_sample, glm::vec3* sums,
+                   uint8_t* rgba, PixelRecord* records) {
+    const size_t n = pixels.size();
+    const TraceCounters before = caster.context.counters;
+    std::array<glm::vec3, kMaxBlock> colours;
+    for (size_t i = 0; i < n; ++i)
+      colours[i] = sums && first_sample > 0 ? sums[pixels[i].index] : glm::vec3(0.0f);
+    for (int s = first_sample; s < settings.spp; ++s)
+      shade_sample(pixels, s, colours.data(), records);
+    const TraceCounters& after = caster.context.counters;
+    const uint32_t steps = count_since(after.traversal_steps, before.traversal_steps);
+    const uint32_t tests = count_since(after.intersection_tests, before.intersection_tests);
+    const uint32_t built = count_since(after.voxels_built, before.voxels_built);
+    for (size_t i = 0; i < n; ++i) {
+      const size_t index = pixels[i].index;
+      if (sums) sums[index] = colours[i];
+      const glm::vec3 colour = glm::clamp(colours[i] / float(settings.spp), 0.0f, 1.0f) * 255.0f + 0.5f;
+      uint8_t* pixel = &rgba[4 * index];
+      for (int k = 0; k < 3; ++k) pixel[k] = uint8_t(colour[k]);
+      pixel[3] = 255;
+      // Shares that add up to the block's total.
+      const auto share = [&](uint32_t total) {
+        return uint32_t(total / n + (i < total % n ? 1 : 0));
+      };
+      records[index].steps = share(steps);
+      records[index].tests = share(tests);
+      records[index].built = share(built);
+    }
+  }
+};
+
+// Shades band `band` of the image. With stride 1 the band is `side` image rows (1 for single
+// rays, kPacketSide for packets), shaded in blocks of side x side pixels; each pixel takes
+// samples [first_sample, settings.spp). With stride > 1 (the coarse pass) the band is a row of
+// stride x stride tiles: one ray goes through the pixel image_sample_pixels picks in each,
+// `side` tiles to a block, and every pixel of a tile gets its colour and record.
+void shade_band(BlockShader& shader, int side, int stride, int band, int first_sample,
+                glm::vec3* sums, uint8_t* rgba, PixelRecord* records) {
+  const int w = shader.settings.width, h = shader.settings.height;
+  std::array<BlockPixel, kMaxBlock> block;
+  const auto at = [&](int x, int y) { return BlockPixel{x, y, size_t(y) * size_t(w) + size_t(x)}; };
+  if (stride == 1) {
+    const int y0 = band * side, y1 = std::min(y0 + side, h);
+    for (int x0 = 0; x0 < w; x0 += side) {
+      size_t n = 0;
+      for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < std::min(x0 + side, w); ++x) block[n++] = at(x, y);
+      shader.shade_block({block.data(), n}, first_sample, sums, rgba, records);
+    }
+    return;
+  }
+  const int tiles = (w + stride - 1) / stride;
+  const int py = std::min(band * stride + stride / 2, h - 1);
+  for (int t0 = 0; t0 < tiles; t0 += side) {
+    size_t n = 0;
+    for (int tx = t0; tx < std::min(t0 + side, tiles); ++tx)
+      block[n++] = at(std::min(tx * stride + stride / 2, w - 1), py);
+    shader.shade_block({block.data(), n}, first_sample, sums, rgba, records);
+    // Fill each tile with its ray's pixel.
+    for (size_t i = 0; i < n; ++i) {
+      const int tx = t0 + int(i);
+      const int x0 = tx * stride, y0 = band * stride;
+      const int x1 = std::min(x0 + stride, w), y1 = std::min(y0 + stride, h);
+      for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+          const size_t other = size_t(y) * size_t(w) + size_t(x);
+          if (other == block[i].index) continue;
+          records[other] = records[block[i].index];
+          std::copy_n(&rgba[4 * block[i].index], 4, &rgba[4 * other]);
+        }
+    }
   }
 }
 
-// Renders tile rows of `stride`-pixel tiles into a fresh outcome, rows spread over the
-// threads; run_row (when given) runs or skips each row.
+// Renders bands of rows (shade_band) into a fresh outcome, bands spread over the threads;
+// run_row (when given) runs or skips each band.
 RenderOutcome render_rows(const Scene& scene, const Accelerator& accel, const Camera& camera,
                           const RenderSettings& settings, int stride, int first_sample,
                           glm::vec3* sums, Hit* answers, const RowRunner& run_row) {
@@ -189,24 +311,29 @@ RenderOutcome render_rows(const Scene& scene, const Accelerator& accel, const Ca
   image.rgba.resize(size_t(image.width) * size_t(image.height) * 4);
   outcome.pixels.resize(size_t(image.width) * size_t(image.height));
   const Lighting lighting = make_lighting(scene, camera, settings.light);
-  const size_t tile_rows = size_t((settings.height + stride - 1) / stride);
+  const bool packets = settings.packets && accel.traces_packets();
+  const int side = packets ? kPacketSide : 1;
+  const int band_rows = stride > 1 ? stride : side;
+  const size_t bands = size_t((settings.height + band_rows - 1) / band_rows);
   std::atomic<uint64_t> rays{0};
   const TraceChunk rows = [&](ThreadContext& context, size_t begin, size_t end) {
-    uint64_t row_rays = 0;
-    for (size_t ty = begin; ty < end; ++ty) {
-      auto row = [&] {
-        shade_row(scene, accel, context, camera, settings, lighting, stride, int(ty), first_sample,
-                  sums, image.rgba.data(), outcome.pixels.data(), answers, row_rays);
+    uint64_t band_rays = 0;
+    RayCaster caster{accel, context, answers, band_rays};
+    BlockShader shader{scene, caster, camera, settings, lighting, packets};
+    for (size_t band = begin; band < end; ++band) {
+      auto shade = [&] {
+        shade_band(shader, side, stride, int(band), first_sample, sums, image.rgba.data(),
+                   outcome.pixels.data());
       };
       if (run_row)
-        run_row(row);
+        run_row(shade);
       else
-        row();
+        shade();
     }
-    rays.fetch_add(row_rays, std::memory_order_relaxed);
+    rays.fetch_add(band_rays, std::memory_order_relaxed);
   };
-  outcome.seconds = seconds_of(
-      [&] { outcome.counters = trace_chunks(accel, tile_rows, 1, settings.threads, rows); });
+  outcome.seconds =
+      seconds_of([&] { outcome.counters = trace_chunks(accel, bands, 1, settings.threads, rows); });
   outcome.rays = rays.load();
   return outcome;
 }
@@ -218,6 +345,7 @@ nlohmann::json render_parameters(const RenderJob& job, const Camera& camera) {
   parameters["height"] = job.settings.height;
   parameters["spp"] = job.settings.spp;
   parameters["bounces"] = job.settings.bounces;
+  parameters["packets"] = job.settings.packets;
   parameters["camera"] = to_string(camera);
   return parameters;
 }

@@ -40,6 +40,11 @@ struct RenderSettings {
   // Where the point light is; default: above and behind the camera. A closed interior (the
   // bench's cathedral) needs it inside, or every shadow ray ends on the roof.
   std::optional<glm::vec3> light = std::nullopt;
+  // With a structure that walks rays together (Accelerator::traces_packets): the primary
+  // rays of each 8x8 pixel block, then the shadow rays from their hits, go to trace_packet
+  // together. Same answers, same image; the pixels' records then share their block's cost.
+  // Bounces scatter and are traced one at a time.
+  bool packets = true;
 };
 
 // Throws UsageError unless the size is 1..kMaxImageSide per side, spp 1..kMaxSpp, bounces
@@ -102,9 +107,10 @@ uint64_t render_ray_keys(const RenderSettings& settings);
 RenderOutcome render_image(const Scene& scene, const Accelerator& accel, const Camera& camera,
                            const RenderSettings& settings, std::vector<Hit>* answers = nullptr);
 
-// How render_pass runs each row: run_row(row) calls row() to render it, or returns without
-// calling it to skip it (a cancelled pass). Called on the rendering threads, one row at a
-// time per thread; it may block (to pause the pass between rows).
+// How render_pass runs each band of rows: run_row(row) calls row() to render it, or returns
+// without calling it to skip it (a cancelled pass). A band is a row of tiles (the coarse
+// pass), 8 rows with packets, or one row. Called on the rendering threads, one band at a
+// time per thread; it may block (to pause the pass between bands).
 using RowRunner = std::function<void(const std::function<void()>& row)>;
 
 // One pass of the viewer's progressive renderer (core/render/progressive.h), by render_image's own
@@ -119,8 +125,8 @@ using RowRunner = std::function<void(const std::function<void()>& row)>;
 // - stride > 1 (spp 1, no sums; the coarse pass): one ray through the centre of the pixel
 //   image_sample_pixels picks in each stride x stride tile (for 8), every pixel of the tile
 //   taking its colour and record.
-// run_row, when given, runs or skips each row (a row of tiles); a skipped row leaves its
-// pixels zero. Throws std::invalid_argument for inconsistent arguments.
+// run_row, when given, runs or skips each band of rows; a skipped band leaves its pixels
+// zero. Throws std::invalid_argument for inconsistent arguments.
 RenderOutcome render_pass(const Scene& scene, const Accelerator& accel, const Camera& camera,
                           const RenderSettings& settings, int stride, int first_sample,
                           std::vector<glm::vec3>* sums, const RowRunner& run_row = {});

@@ -58,10 +58,7 @@ nlohmann::json run_stats(const Scene& scene, const Accelerator& accel, nlohmann:
   stats["packets"] = packet_figure(counters.packets);
   stats["packet_fallback_rays"] = packet_figure(counters.packet_fallback_rays);
   stats["packet_steps"] = packet_figure(counters.packet_steps);
-  stats["packet_active_fraction"] =
-      packet_figure(counters.packet_step_slots > 0
-                        ? double(counters.packet_step_rays) / double(counters.packet_step_slots)
-                        : 0.0);
+  stats["packet_active_fraction"] = packet_figure(counters.packet_active_fraction());
   stats["memory_bytes"] = structure.memory_bytes;
   stats["voxels_over_budget"] = structure.voxels_over_budget;
   return stats;
