@@ -238,10 +238,11 @@ Parser view_parser() {
                   job->walk_out),
       string_flag("--screenshot", "FILE.png", "saves the window just before exiting",
                   job->screenshot),
-      string_flag("--script", "FILE",
-                  "runs lines \"frame N: resize WxH|open SCENE|set NAME VALUE|close\" (NAME: accel, "
-                  "packets or a structure flag)",
-                  job->script),
+      string_flag(
+          "--script", "FILE",
+          "runs lines \"frame N: resize WxH|open SCENE|set NAME VALUE|close\" (NAME: accel, "
+          "packets or a structure flag)",
+          job->script),
       string_flag("--stats", "FILE.json", "writes the last frame's figures on exit", job->stats),
   };
   append(flags, structure_flags(job->params));

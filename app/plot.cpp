@@ -346,7 +346,9 @@ std::pair<double, double> value_range(const BarChart& chart) {
 // null); false when no bar has a value.
 bool fill_bars(const json& records, const BarValue& bar_of, BarChart& chart) {
   const std::vector<std::string> scenes = record_scenes(records);
-  for (std::string_view accel : report_structures())
+  std::vector<std::string_view> series = report_structures();
+  series.insert(series.end(), packet_columns().begin(), packet_columns().end());
+  for (std::string_view accel : series)
     if (std::ranges::any_of(scenes,
                             [&](const std::string& s) { return bar_of(s, accel).has_value(); }))
       chart.structures.push_back(accel);
@@ -366,8 +368,11 @@ bool relative_plot(const json& records, const std::string& path) {
                  .y_name = "time / zero-overhead time",
                  .base = 1.0,
                  .references = {{1.0, kInk, "zero-overhead = 1"}}};
-  const BarValue bar_of = [&](const std::string& scene, std::string_view accel) {
-    const json* record = find_record(records, {scene, accel});
+  const BarValue bar_of = [&](const std::string& scene, std::string_view column) {
+    const auto packets = packet_column_structure(column);
+    const json* record = packets
+                             ? find_record(records, {scene, *packets, "primary_shadow", "packets"})
+                             : find_record(records, {scene, column});
     if (!record) return std::optional<Bar>();
     const auto value = record_number(*record, "relative_to_zero");
     return std::optional(
@@ -388,9 +393,12 @@ bool speedup_plot(const json& records, const std::string& path) {
                  .base = 0.0,
                  .references = {{2.0, kInk, "ideal 2x"},
                                 {kSpeedupTarget, kAlarm, format("target %.2fx", kSpeedupTarget)}}};
-  const BarValue bar_of = [&](const std::string& scene, std::string_view accel) {
-    const json* one = find_record(records, {scene, accel});
-    const json* two = find_record(records, {scene, accel, "primary_shadow", "default", 2});
+  const BarValue bar_of = [&](const std::string& scene, std::string_view column) {
+    const auto packets = packet_column_structure(column);
+    const std::string_view accel = packets.value_or(column);
+    const std::string_view setting = packets ? "packets" : "default";
+    const json* one = find_record(records, {scene, accel, "primary_shadow", setting});
+    const json* two = find_record(records, {scene, accel, "primary_shadow", setting, 2});
     if (!one || !two) return std::optional<Bar>();
     const auto t1 = record_number(*one, "trace_seconds"), t2 = record_number(*two, "trace_seconds");
     return std::optional(
@@ -617,6 +625,12 @@ bool sweep_plot(const json& records, const std::string& path) {
 }  // namespace
 
 std::array<uint8_t, 3> structure_colour(std::string_view accel) {
+  // A packet column: its structure's colour, halfway to white.
+  if (const auto packets = packet_column_structure(accel)) {
+    std::array<uint8_t, 3> colour = structure_colour(*packets);
+    for (uint8_t& c : colour) c = uint8_t((c + 255) / 2);
+    return colour;
+  }
   const Structure* structure = find_structure(accel);
   return structure ? structure->colour : std::array<uint8_t, 3>{127, 127, 127};
 }

@@ -16,7 +16,8 @@ namespace gs::app {
 inline constexpr int kPlotWidth = 1200;
 inline constexpr int kBarPlotHeight = 600;
 
-// A structure's colour in every plot (RGB), the registry's; grey for a name it does not know.
+// A structure's colour in every plot (RGB), the registry's; a packet column ("grid1d packets")
+// its structure's, lighter; grey for a name it does not know.
 std::array<uint8_t, 3> structure_colour(std::string_view accel);
 
 // Writes into the existing folder `out_dir` each plot the records hold data for, and

@@ -236,7 +236,8 @@ RenderOutcome strided_render(const BenchScene& bench, const Accelerator& accel,
     render_row();
     rendered.fetch_add(1);
   };
-  RenderOutcome outcome = render_pass(*bench.scene, accel, camera, settings, 1, 0, nullptr, every_kth);
+  RenderOutcome outcome =
+      render_pass(*bench.scene, accel, camera, settings, 1, 0, nullptr, every_kth);
   scale = double(turn.load()) / double(std::max(1, rendered.load()));
   return outcome;
 }
@@ -280,7 +281,8 @@ void fill_structure_figures(json& record, const Accelerator& accel, const Render
   if (warm.counters.packet_steps > 0)
     record["packet_active_fraction"] = warm.counters.packet_active_fraction();
   if (const uint64_t offered = warm.counters.packet_rays + warm.counters.packet_fallback_rays)
-    record["packet_fallback_fraction"] = double(warm.counters.packet_fallback_rays) / double(offered);
+    record["packet_fallback_fraction"] =
+        double(warm.counters.packet_fallback_rays) / double(offered);
 }
 
 void fill_times(json& record, double trace_seconds, uint64_t rays) {

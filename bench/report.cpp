@@ -235,23 +235,37 @@ using Pick = std::function<const json*(const std::string& scene, std::string_vie
 using Suffix = std::function<std::string(const std::string& scene, std::string_view accel)>;
 
 // Rows scenes, columns structures, cells time relative to the zero-overhead method (the
-// layout of Figure 12), then zero's own seconds. `suffix` adds to each cell (speed-ups).
+// layout of Figure 12), then zero's own seconds. With `packets`, a column "<structure>
+// packets" follows the structures for each that has packet records. `suffix` adds to each
+// single-ray cell (speed-ups).
 std::string relative_table(const json& records, std::string_view workload, int threads,
-                           const Pick& pick, const Suffix& suffix = nullptr) {
-  const std::vector<std::string_view> structures = structures_run(records);
+                           const Pick& pick, const Pick& packets = nullptr,
+                           const Suffix& suffix = nullptr) {
+  struct Column {
+    std::string_view label, accel;
+    const Pick& pick;
+  };
+  const std::vector<std::string> scenes = record_scenes(records);
+  std::vector<Column> columns;
+  for (std::string_view accel : structures_run(records)) columns.push_back({accel, accel, pick});
+  for (std::string_view label : packets ? packet_columns() : std::vector<std::string_view>{}) {
+    const std::string_view accel = *packet_column_structure(label);
+    if (std::ranges::any_of(scenes, [&](const std::string& s) { return packets(s, accel); }))
+      columns.push_back({label, accel, packets});
+  }
   Table table{{"scene", "triangles"}, {}};
-  for (std::string_view accel : structures) table.header.emplace_back(accel);
+  for (const Column& column : columns) table.header.emplace_back(column.label);
   table.header.emplace_back("zero (s)");
-  for (const std::string& scene : record_scenes(records)) {
+  for (const std::string& scene : scenes) {
     std::vector<const json*> picked;
-    for (std::string_view accel : structures) picked.push_back(pick(scene, accel));
+    for (const Column& column : columns) picked.push_back(column.pick(scene, column.accel));
     if (std::ranges::count(picked, nullptr) == std::ssize(picked)) continue;
     const size_t fastest = lowest_relative(picked);
     std::vector<std::string> row{scene_cell(records, scene), triangles_cell(records, scene)};
     for (size_t i = 0; i < picked.size(); ++i) {
       const std::string text = relative_cell(picked[i]);
       row.push_back(i == fastest ? "**" + text + "**" : text);
-      if (suffix) row.back() += suffix(scene, structures[i]);
+      if (suffix && &columns[i].pick == &pick) row.back() += suffix(scene, columns[i].accel);
     }
     const json* zero = find_record(records, {scene, "zero", workload, "default", threads});
     row.push_back(cell(zero, "trace_seconds", [](double s) { return format("%.3g", s); }));
@@ -261,10 +275,19 @@ std::string relative_table(const json& records, std::string_view workload, int t
   return markdown(table);
 }
 
-Pick default_pick(const json& records, std::string_view workload, int threads) {
-  return [&records, workload, threads](const std::string& scene, std::string_view accel) {
-    return find_record(records, {scene, accel, workload, "default", threads});
+Pick setting_pick(const json& records, std::string_view workload, std::string_view setting,
+                  int threads) {
+  return [&records, workload, setting, threads](const std::string& scene, std::string_view accel) {
+    return find_record(records, {scene, accel, workload, setting, threads});
   };
+}
+
+Pick default_pick(const json& records, std::string_view workload, int threads) {
+  return setting_pick(records, workload, "default", threads);
+}
+
+Pick packets_pick(const json& records, std::string_view workload, int threads) {
+  return setting_pick(records, workload, "packets", threads);
 }
 
 // "max_granularity 32 (default 20)" for every parameter where best differs from default.
@@ -325,21 +348,27 @@ std::string figure12_section(const json& records) {
       "its time scaled up: an estimate, not a warm median), ‡ taken while other processes kept "
       "more than a quarter of a core busy (`others_busy_cores`), "
       "**bold** the fastest in its row. `bvh` is our plain scalar traversal (one ray at a "
-      "time, no SIMD, no packets); `embree` is Intel Embree's SIMD BVH.\n\n"
+      "time, no SIMD, no packets); `embree` is Intel Embree's SIMD BVH. Every column traces "
+      "one ray at a time but the \"packets\" ones: the primary rays of 8x8 pixel blocks, then "
+      "their shadow rays, walked together (grid1d's packet walk, Embree's rtcIntersect16 / "
+      "rtcOccluded16); bounces stay single rays.\n\n"
       "### Primary and shadow rays, 1 thread, default settings\n\n" +
-      relative_table(records, "primary_shadow", 1, default_pick(records, "primary_shadow", 1)) +
+      relative_table(records, "primary_shadow", 1, default_pick(records, "primary_shadow", 1),
+                     packets_pick(records, "primary_shadow", 1)) +
       "### Primary and shadow rays, 1 thread, each structure at its best setting\n\n" +
       relative_table(records, "primary_shadow", 1,
                      [&records](const std::string& scene, std::string_view accel) {
                        return best_record(records, scene, accel);
                      }) +
       best_settings_list(records) + "### Diffuse rays, 1 thread, default settings\n\n" +
-      relative_table(records, "diffuse", 1, default_pick(records, "diffuse", 1));
+      relative_table(records, "diffuse", 1, default_pick(records, "diffuse", 1),
+                     packets_pick(records, "diffuse", 1));
   for (int threads : multi_thread_counts(records))
     out += "### Primary and shadow rays, " + std::to_string(threads) +
            " threads, default settings (speed-up over 1 thread)\n\n" +
            relative_table(records, "primary_shadow", threads,
                           default_pick(records, "primary_shadow", threads),
+                          packets_pick(records, "primary_shadow", threads),
                           [&records, threads](const std::string& scene, std::string_view accel) {
                             return speedup_suffix(records, threads, scene, accel);
                           });
@@ -403,6 +432,43 @@ SceneCheck embree_check(const json& records, const std::string& scene) {
               " Mrays/s = " + format("%.3f", *ratio)};
 }
 
+// " (active 0.63, fallback 2.1%)": why a packet record gained what it did.
+std::string packet_figures(const json& record) {
+  const auto active = record_number(record, "packet_active_fraction");
+  const auto fallback = record_number(record, "packet_fallback_fraction");
+  if (!active && !fallback) return "";
+  return " (" + (active ? "active " + fixed2(*active) : std::string("active n/a")) +
+         (fallback ? format(", fallback %.1f%%", 100.0 * *fallback) : "") + ")";
+}
+
+SceneCheck packet_gain_check(const json& records, const std::string& scene) {
+  const json* single = find_record(records, {scene, "grid1d"});
+  const json* packets = find_record(records, {scene, "grid1d", "primary_shadow", "packets"});
+  const auto ts = trace_time(single), tp = trace_time(packets);
+  if (!ts || !tp || *tp <= 0) return {scene, std::nullopt, "not measured with and without"};
+  return {scene, *ts / *tp >= kPacketGainTarget,
+          format("%.3f", *ts / *tp) + "×" + packet_figures(*packets)};
+}
+
+SceneCheck packet_embree_check(const json& records, const std::string& scene) {
+  const json* grid = find_record(records, {scene, "grid1d", "primary_shadow", "packets"});
+  const json* embree = find_record(records, {scene, "embree", "primary_shadow", "packets"});
+  const auto ratio = embree_ratio(grid, embree);
+  if (!ratio) return {scene, std::nullopt, embree ? "rays/s not measured" : "embree not run"};
+  return {scene, *ratio >= kPacketEmbreeTarget,
+          cell(grid, "rays_per_second", mrays) + " vs " + cell(embree, "rays_per_second", mrays) +
+              " Mrays/s = " + format("%.3f", *ratio)};
+}
+
+SceneCheck packet_bounce_check(const json& records, const std::string& scene) {
+  const json* single = find_record(records, {scene, "grid1d", "diffuse"});
+  const json* packets = find_record(records, {scene, "grid1d", "diffuse", "packets"});
+  const auto ts = trace_time(single), tp = trace_time(packets);
+  if (!ts || !tp || *ts <= 0) return {scene, std::nullopt, "not measured with and without"};
+  return {scene, *tp <= kPacketBounceSlowdown * *ts,
+          "packets / single time " + format("%.3f", *tp / *ts) + packet_figures(*packets)};
+}
+
 // " (1.97 cores busy)": thread CPU time over wall time while a record's warm renders ran.
 std::string cores_used(const json& record) {
   const auto cpu = record_number(record, "cpu_seconds");
@@ -454,6 +520,26 @@ std::string targets_section(const json& records) {
                  was_run(records, "embree") ? checks_for(records, false, embree_check)
                                             : std::vector<SceneCheck>{},
                  "embree not run (not in this build or not asked for)") +
+         verdict("grid1d with packets at least " + fixed2(kPacketGainTarget) +
+                     "× its own single rays (primary and shadow rays, 1 thread; single-ray "
+                     "time / packet time, then the packets' active fraction and fallbacks)",
+                 has_records(records, "primary_shadow", "packets")
+                     ? checks_for(records, false, packet_gain_check)
+                     : std::vector<SceneCheck>{},
+                 "no packet runs") +
+         verdict("grid1d with packets at least " + fixed2(kPacketEmbreeTarget) +
+                     " of Embree's packets' rays/s (primary and shadow rays, 1 thread; ratio)",
+                 has_records(records, "primary_shadow", "packets") && was_run(records, "embree")
+                     ? checks_for(records, false, packet_embree_check)
+                     : std::vector<SceneCheck>{},
+                 "no packet runs of both") +
+         verdict("grid1d's diffuse bounces with packets on at most " +
+                     format("%.0f%%", 100.0 * (kPacketBounceSlowdown - 1.0)) +
+                     " slower than with single rays (1 thread)",
+                 has_records(records, "diffuse", "packets")
+                     ? checks_for(records, false, packet_bounce_check)
+                     : std::vector<SceneCheck>{},
+                 "no diffuse packet runs") +
          verdict("grid1d's 2-thread speed-up at least " + fixed2(kSpeedupTarget) +
                      "× on warm runs (1-thread time / 2-thread time)",
                  has_records(records, "primary_shadow", "default", 2)
@@ -477,17 +563,25 @@ std::string embree_section(const json& records) {
   if (!was_run(records, "embree"))
     return out + "Not run: embree (not in this build or not asked for).\n\n";
   Table table{{"scene", "grid1d Mrays/s", "embree Mrays/s", "grid1d / embree", "grid1d × zero",
-               "embree × zero"},
+               "embree × zero", "grid1d packets Mrays/s", "embree packets Mrays/s",
+               "packets: grid1d / embree"},
               {}};
+  const auto ratio_cell = [](const json* grid, const json* embree) {
+    const auto ratio = embree_ratio(grid, embree);
+    return ratio ? fixed2(*ratio) : std::string(kNotMeasured);
+  };
   for (const std::string& scene : record_scenes(records)) {
     const json* grid = find_record(records, {scene, "grid1d"});
     const json* embree = find_record(records, {scene, "embree"});
     if (!grid && !embree) continue;
-    const auto ratio = embree_ratio(grid, embree);
-    table.rows.push_back({scene_cell(records, scene), cell(grid, "rays_per_second", mrays),
-                          cell(embree, "rays_per_second", mrays),
-                          ratio ? fixed2(*ratio) : kNotMeasured, relative_cell(grid),
-                          relative_cell(embree)});
+    const json* grid_packets = find_record(records, {scene, "grid1d", "primary_shadow", "packets"});
+    const json* embree_packets =
+        find_record(records, {scene, "embree", "primary_shadow", "packets"});
+    table.rows.push_back(
+        {scene_cell(records, scene), cell(grid, "rays_per_second", mrays),
+         cell(embree, "rays_per_second", mrays), ratio_cell(grid, embree), relative_cell(grid),
+         relative_cell(embree), cell(grid_packets, "rays_per_second", mrays),
+         cell(embree_packets, "rays_per_second", mrays), ratio_cell(grid_packets, embree_packets)});
   }
   return out + markdown(table);
 }
@@ -543,14 +637,24 @@ std::string references_of(const json& records, const std::string& scene) {
 std::string agreement_section(const json& records) {
   Table table{{"scene", "reference"}, {}};
   const std::vector<std::string_view> structures = structure_columns(records, table);
+  // The packet measurements answer for the same rays: their columns follow.
+  std::vector<std::string_view> packet_structures;
+  for (std::string_view label : packet_columns())
+    if (has_records(records, "primary_shadow", "packets") &&
+        was_run(records, *packet_column_structure(label)))
+      packet_structures.push_back(*packet_column_structure(label)),
+          table.header.emplace_back(label);
+  const auto agreement = [](const json* record) {
+    const std::string rays = cell(record, "disagreeing_rays", count_text),
+                      rmse = cell(record, "image_rmse", fixed2);
+    return rays == rmse ? rays : rays + " / " + rmse;  // "—" or "n/a" once
+  };
   for (const std::string& scene : record_scenes(records)) {
     std::vector<std::string> row{scene_cell(records, scene), references_of(records, scene)};
-    for (std::string_view accel : structures) {
-      const json* record = find_record(records, {scene, accel});
-      const std::string rays = cell(record, "disagreeing_rays", count_text),
-                        rmse = cell(record, "image_rmse", fixed2);
-      row.push_back(rays == rmse ? rays : rays + " / " + rmse);  // "—" or "n/a" once
-    }
+    for (std::string_view accel : structures)
+      row.push_back(agreement(find_record(records, {scene, accel})));
+    for (std::string_view accel : packet_structures)
+      row.push_back(agreement(find_record(records, {scene, accel, "primary_shadow", "packets"})));
     table.rows.push_back(row);
   }
   return "## Agreement with the reference (primary and shadow rays, default settings)\n\n"
@@ -817,6 +921,23 @@ const std::vector<std::string_view>& report_structures() {
     return list;
   }();
   return names;
+}
+
+const std::vector<std::string_view>& packet_columns() {
+  static const std::vector<std::string> labels = [] {
+    std::vector<std::string> list;
+    for (std::string_view accel : report_structures())
+      if (find_structure(accel)->traces_packets) list.push_back(std::string(accel) + " packets");
+    return list;
+  }();
+  static const std::vector<std::string_view> views(labels.begin(), labels.end());
+  return views;
+}
+
+std::optional<std::string_view> packet_column_structure(std::string_view column) {
+  constexpr std::string_view kSuffix = " packets";
+  if (std::ranges::count(packet_columns(), column) == 0) return std::nullopt;
+  return column.substr(0, column.size() - kSuffix.size());
 }
 
 std::vector<std::string> record_scenes(const json& records) {

@@ -24,9 +24,23 @@ const std::vector<std::string_view>& report_structures();
 // at least this speed-up on 2 threads.
 inline constexpr double kEmbreeTarget = 0.5;
 inline constexpr double kSpeedupTarget = 1.85;
+// Packets (setting "packets"): grid1d's at least this many times its own single rays' speed
+// and at least this fraction of Embree's packets' rays/s on primary and shadow rays; on
+// diffuse bounces no more than this factor slower than single rays.
+inline constexpr double kPacketGainTarget = 3.0;
+inline constexpr double kPacketEmbreeTarget = 1.0;
+inline constexpr double kPacketBounceSlowdown = 1.05;
+
+// The packet measurements' columns in tables and plots, "<structure> packets", one per
+// structure that traces packets, in report order.
+const std::vector<std::string_view>& packet_columns();
+// The structure of a packet column, or nullopt for any other name.
+std::optional<std::string_view> packet_column_structure(std::string_view column);
 
 // One measurement's identity. Setting "default" is the structure's paper or default
-// parameters, "best" its best sweep point, "calibrated" grid1d with calibrated constants.
+// parameters, "best" its best sweep point, "calibrated" grid1d with calibrated constants,
+// "packets" the default parameters with primary and shadow rays traced by packets (every
+// other setting traces one ray at a time).
 struct RecordKey {
   std::string_view scene, accel, workload = "primary_shadow", setting = "default";
   int threads = 1;

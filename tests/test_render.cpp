@@ -380,8 +380,8 @@ TEST(RenderCli, PacketsOnAndOffWriteTheSamePngAndHits) {
                       hits = temp_path("packets-" + packets + ".hits"),
                       stats = temp_path("packets-" + packets + ".json");
     const test::CommandOutcome run = test::run_gridscope(
-        "render builtin:lumpy --size 24x16 --spp 2 --threads 2 --packets " + packets +
-        " --out " + quoted(png) + " --record-hits " + quoted(hits) + " --stats " + quoted(stats));
+        "render builtin:lumpy --size 24x16 --spp 2 --threads 2 --packets " + packets + " --out " +
+        quoted(png) + " --record-hits " + quoted(hits) + " --stats " + quoted(stats));
     ASSERT_EQ(run.status, 0) << run.err;
     outputs.push_back(test::slurp(png) + test::slurp(hits));
     const nlohmann::json figures = nlohmann::json::parse(test::slurp(stats));

@@ -244,6 +244,27 @@ TEST(View, ParametersChangedDuringTheBuildAreTheFinalFramesOnes) {
   expect_viewport_is_render(shot, figures, "--max-granularity 8 --memory-budget 8M");
 }
 
+TEST(View, PacketsSwitchedOffMidwayRenderTheSameImageOneRayAtATime) {
+  if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed: the viewer needs a display";
+  std::vector<nlohmann::json> runs;
+  for (const std::string script_text : {"", "frame 2: set packets off\n"}) {
+    const std::string script = script_file("packets.txt", "# packets\n" + script_text);
+    const std::string shot = temp_path("packets.png"), stats = temp_path("packets.json");
+    const Outcome view =
+        run_in_xvfb("view builtin:lumpy --size 640x480 --frames 4 --script '" + script +
+                    "' --screenshot '" + shot + "' --stats '" + stats + "'");
+    ASSERT_EQ(view.status, 0) << view.err;
+    runs.push_back(read_json(stats));
+    expect_viewport_is_render(shot, runs.back());
+  }
+  EXPECT_EQ(runs[0].at("packets"), true);
+  EXPECT_GT(runs[0].at("packet_rays").get<uint64_t>(), 0u);
+  EXPECT_GT(runs[0].at("packet_active_fraction").get<double>(), 0.0);
+  EXPECT_EQ(runs[1].at("packets"), false);
+  EXPECT_EQ(runs[1].at("packet_rays").get<uint64_t>(), 0u);
+  for (const nlohmann::json& run : runs) EXPECT_GT(run.at("seconds").get<double>(), 0.0);
+}
+
 TEST(View, ClosingDuringABigBuildExitsZero) {
   if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed: the viewer needs a display";
   // Cutting voxels into up to 4096 cells makes sphereflake's build take seconds; the window
@@ -263,7 +284,8 @@ TEST(View, BadScriptsExitOneNamingTheLine) {
   for (const std::string line :
        {"frame 0: close", "frame 2 close", "frame 2: jump", "frame 2: resize 0x5",
         "frame 2: resize 10x99999", "frame 2: set max-granularity 0", "frame 2: set colour red",
-        "frame 2: set accel nothing", "frame 2: open", "frame two: close"}) {
+        "frame 2: set accel nothing", "frame 2: set packets maybe", "frame 2: open",
+        "frame two: close"}) {
     const std::string script = script_file("bad_script.txt", "# fine\n\n" + line + "\n");
     const Outcome bad = run("view builtin:pyramid --script '" + script + "'");
     EXPECT_EQ(bad.status, 1) << line;

@@ -113,11 +113,12 @@ void statistics_tab(const ViewState& state, const OverlayCache& overlays) {
               (unsigned long long)frame.rays);
   const TraceCounters& c = frame.counters;
   if (c.packet_rays + c.packet_fallback_rays > 0)
-    ImGui::Text("packets: %llu rays in %llu packets, %.0f%% active per step, %llu fell back "
-                "to single rays; pass %d done %.2f s after the restart",
-                (unsigned long long)c.packet_rays, (unsigned long long)c.packets,
-                100.0 * c.packet_active_fraction(), (unsigned long long)c.packet_fallback_rays,
-                frame.pass, frame.seconds);
+    ImGui::Text(
+        "packets: %llu rays in %llu packets, %.0f%% active per step, %llu fell back "
+        "to single rays; pass %d done %.2f s after the restart",
+        (unsigned long long)c.packet_rays, (unsigned long long)c.packets,
+        100.0 * c.packet_active_fraction(), (unsigned long long)c.packet_fallback_rays, frame.pass,
+        frame.seconds);
   else
     ImGui::Text("packets: %s; pass %d done %.2f s after the restart",
                 setup.packets ? "none walked (this structure traces rays one at a time)" : "off",

@@ -28,8 +28,9 @@ struct ScriptStep {
 // A --script file's steps, in frame order. One step a line, "frame N: ACTION" with ACTION
 // one of `resize WxH` (0x0: minimised), `open SCENE`, `set NAME VALUE` (NAME `accel` or a
 // structure flag without its dashes, e.g. `set max-granularity 8`, applied as the panel's
-// Apply does; or `packets` with on or off, as the panel's checkbox) and `close`; blank lines and lines starting with '#' are skipped. `path`
-// names the file in errors: InputError "FILE:LINE: problem".
+// Apply does; or `packets` with on or off, as the panel's checkbox) and `close`; blank lines and
+// lines starting with '#' are skipped. `path` names the file in errors: InputError "FILE:LINE:
+// problem".
 std::vector<ScriptStep> parse_script(const std::string& text, const std::string& path);
 
 // Counts the UI frames (minimised ones too) and decides, from them and the view shown, what

@@ -62,8 +62,9 @@ void StructureEditor::controls(ViewState& state) {
   bool packets = state.session.setup().packets;
   if (ImGui::Checkbox("packets", &packets)) state.session.set_packets(packets);
   if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("Primary rays of 8x8 pixel blocks, then their shadow rays, walked together "
-                      "by structures that can (grid1d, embree); the same image either way");
+    ImGui::SetTooltip(
+        "Primary rays of 8x8 pixel blocks, then their shadow rays, walked together "
+        "by structures that can (grid1d, embree); the same image either way");
 }
 
 void StructureEditor::param_control(const ParamSpec& spec, const std::string& default_text) {

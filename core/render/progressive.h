@@ -18,10 +18,10 @@
 #include <vector>
 
 #include "core/accel/accelerator.h"
-#include "core/scene/camera.h"
-#include "core/render/render.h"
-#include "core/scene/scene.h"
 #include "core/accel/walk.h"
+#include "core/render/render.h"
+#include "core/scene/camera.h"
+#include "core/scene/scene.h"
 
 namespace gs {
 
@@ -33,7 +33,7 @@ struct ViewSetup {
   Camera camera;
   int width = 0, height = 0;
   int threads = default_thread_count();
-  int max_spp = 256;  // accumulation stops here
+  int max_spp = 256;    // accumulation stops here
   bool packets = true;  // RenderSettings::packets; a change keeps the structure
 };
 

@@ -125,8 +125,7 @@ glm::vec3 bounce_light(SampleTracer& tracer, const Surface& surface, int bounce)
 // Display-space colour of a primary ray's hit lit by `lambert` (0 when shadowed) and by
 // the light its bounces brought.
 glm::vec3 display_colour(float lambert, const glm::vec3& bounced) {
-  const glm::vec3 linear =
-      kAlbedo * (kAmbient + (1.0f - kAmbient) * lambert) + kAlbedo * bounced;
+  const glm::vec3 linear = kAlbedo * (kAmbient + (1.0f - kAmbient) * lambert) + kAlbedo * bounced;
   return glm::pow(glm::min(linear, 1.0f), glm::vec3(1.0f / 2.2f));
 }
 
@@ -210,8 +209,7 @@ struct BlockShader {
       // vector turns it into distance along the view axis (what a depth buffer compares).
       const float t = hits[i].t;
       if (s == 0)
-        records[pixels[i].index].depth =
-            std::isinf(t) ? t : t * glm::dot(primary[i].dir, forward);
+        records[pixels[i].index].depth = std::isinf(t) ? t : t * glm::dot(primary[i].dir, forward);
       if (!hits[i].found()) {
         colours[i] += background;
         continue;
@@ -241,7 +239,8 @@ struct BlockShader {
     for (size_t i = 0; i < n; ++i) {
       const size_t index = pixels[i].index;
       if (sums) sums[index] = colours[i];
-      const glm::vec3 colour = glm::clamp(colours[i] / float(settings.spp), 0.0f, 1.0f) * 255.0f + 0.5f;
+      const glm::vec3 colour =
+          glm::clamp(colours[i] / float(settings.spp), 0.0f, 1.0f) * 255.0f + 0.5f;
       uint8_t* pixel = &rgba[4 * index];
       for (int k = 0; k < 3; ++k) pixel[k] = uint8_t(colour[k]);
       pixel[3] = 255;
