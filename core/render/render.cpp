@@ -158,6 +158,17 @@ struct BlockShader {
   const Lighting& lighting;
   bool packets;
   const glm::vec3 forward = camera.forward();
+  // A block's rays and what they found, kept here rather than on each sample's stack: Ray,
+  // Hit and the vectors initialise their members, kilobytes per sample of a single pixel.
+  struct Scratch {
+    std::array<Ray, kMaxBlock> primary, shadow;
+    std::array<uint64_t, kMaxBlock> keys, shadow_keys;
+    std::array<Hit, kMaxBlock> hits, blocked;
+    std::array<Surface, kMaxBlock> surfaces;
+    std::array<float, kMaxBlock> lambert;
+    std::array<size_t, kMaxBlock> lit;
+    std::array<glm::vec3, kMaxBlock> colours;
+  } scratch = {};
 
   // Rays of one kind, each answered as cast() answers it.
   void cast_all(std::span<const Ray> rays, std::span<const uint64_t> keys, std::span<Hit> hits,
@@ -174,9 +185,15 @@ struct BlockShader {
         glm::vec3(kBackground[0], kBackground[1], kBackground[2]) / 255.0f;
     const int w = settings.width, h = settings.height, spp = settings.spp;
     const size_t n = pixels.size();
-    std::array<Ray, kMaxBlock> primary, shadow;
-    std::array<uint64_t, kMaxBlock> keys, shadow_keys;
-    std::array<Hit, kMaxBlock> hits, blocked;
+    auto& primary = scratch.primary;
+    auto& shadow = scratch.shadow;
+    auto& keys = scratch.keys;
+    auto& shadow_keys = scratch.shadow_keys;
+    auto& hits = scratch.hits;
+    auto& blocked = scratch.blocked;
+    auto& surfaces = scratch.surfaces;
+    auto& lambert = scratch.lambert;
+    auto& lit = scratch.lit;
     for (size_t i = 0; i < n; ++i) {
       const uint32_t seed = mix_bits(uint32_t(pixels[i].y) * uint32_t(w) + uint32_t(pixels[i].x));
       const float jx = spp == 1 ? 0.5f : hashed_unit(seed, 2 * uint32_t(s));
@@ -186,11 +203,9 @@ struct BlockShader {
     }
     cast_all({primary.data(), n}, {keys.data(), n}, {hits.data(), n}, RayKind::nearest);
     // The shadow rays of the hits whose surface faces the light.
-    std::array<Surface, kMaxBlock> surfaces;
-    std::array<float, kMaxBlock> lambert{};
-    std::array<size_t, kMaxBlock> lit;
     size_t shadows = 0;
     for (size_t i = 0; i < n; ++i) {
+      lambert[i] = 0.0f;
       if (!hits[i].found()) continue;
       surfaces[i] = surface_at(scene, hits[i], primary[i].dir);
       const std::optional<LightPath> path = light_path(surfaces[i], lighting);
@@ -227,7 +242,7 @@ struct BlockShader {
                    uint8_t* rgba, PixelRecord* records) {
     const size_t n = pixels.size();
     const TraceCounters before = caster.context.counters;
-    std::array<glm::vec3, kMaxBlock> colours;
+    auto& colours = scratch.colours;
     for (size_t i = 0; i < n; ++i)
       colours[i] = sums && first_sample > 0 ? sums[pixels[i].index] : glm::vec3(0.0f);
     for (int s = first_sample; s < settings.spp; ++s)
