@@ -8,11 +8,15 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "core/scene/camera.h"
 #include "tests/test_util.h"
@@ -265,6 +269,31 @@ TEST(View, PacketsSwitchedOffMidwayRenderTheSameImageOneRayAtATime) {
   for (const nlohmann::json& run : runs) EXPECT_GT(run.at("seconds").get<double>(), 0.0);
 }
 
+// `wait` holds the script until the view's full-resolution pass is shown; `orbit` turns the
+// camera about the pivot (at first the target) keeping the eye's distance, as a drag does.
+TEST(View, OrbitAfterEachFullPassRecordsEachPassTime) {
+  if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed: the viewer needs a display";
+  const std::string script = script_file(
+      "orbit.txt", "frame 1: wait\nframe 1: orbit 30\nframe 1: wait\nframe 1: orbit -90\n");
+  const std::string shot = temp_path("orbit.png"), stats = temp_path("orbit.json");
+  const Outcome view = run_in_xvfb("view --size 640x480 --frames 1 --script '" + script +
+                                   "' --screenshot '" + shot + "' --stats '" + stats + "'");
+  ASSERT_EQ(view.status, 0) << view.err;
+  const nlohmann::json figures = read_json(stats);
+  // The default view, the view turned by 30 degrees, then by -60 in all.
+  const auto seconds = figures.at("full_pass_seconds").get<std::vector<double>>();
+  ASSERT_EQ(seconds.size(), 3u) << figures.dump();
+  for (const double s : seconds) EXPECT_GT(s, 0.0);
+  const gs::Camera start = gs::parse_camera("eye=3.2,-4.2,2.2;target=0,0,0.35;up=0,0,1;fov=40");
+  const gs::Camera end = gs::parse_camera(figures.at("view").at("camera").get<std::string>());
+  const glm::vec3 from = start.eye - start.target, to = end.eye - end.target;
+  EXPECT_NEAR(glm::length(to), glm::length(from), 1e-4f);
+  EXPECT_NEAR(to.z, from.z, 1e-4f);  // a turn about the up axis (z)
+  const float turned = std::atan2(to.y, to.x) - std::atan2(from.y, from.x);
+  EXPECT_NEAR(std::abs(std::remainder(turned, 2.0f * 3.14159265f)), glm::radians(60.0f), 1e-3f);
+  expect_viewport_is_render(shot, figures);
+}
+
 TEST(View, ClosingDuringABigBuildExitsZero) {
   if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed: the viewer needs a display";
   // Cutting voxels into up to 4096 cells makes sphereflake's build take seconds; the window
@@ -284,8 +313,8 @@ TEST(View, BadScriptsExitOneNamingTheLine) {
   for (const std::string line :
        {"frame 0: close", "frame 2 close", "frame 2: jump", "frame 2: resize 0x5",
         "frame 2: resize 10x99999", "frame 2: set max-granularity 0", "frame 2: set colour red",
-        "frame 2: set accel nothing", "frame 2: set packets maybe", "frame 2: open",
-        "frame two: close"}) {
+        "frame 2: set accel nothing", "frame 2: set packets maybe", "frame 2: orbit left",
+        "frame 2: orbit 400", "frame 2: wait now", "frame 2: open", "frame two: close"}) {
     const std::string script = script_file("bad_script.txt", "# fine\n\n" + line + "\n");
     const Outcome bad = run("view builtin:pyramid --script '" + script + "'");
     EXPECT_EQ(bad.status, 1) << line;

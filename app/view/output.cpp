@@ -70,6 +70,7 @@ void write_stats(const ViewState& state, const std::string& path) {
                                 {"rays", frame.rays},
                                 {"rays_per_second", frame.rays_per_second},
                                 {"seconds", frame.seconds},
+                                {"full_pass_seconds", session.full_pass_seconds()},
                                 {"packet_rays", frame.counters.packet_rays},
                                 {"packet_fallback_rays", frame.counters.packet_fallback_rays},
                                 {"packet_active_fraction", frame.counters.packet_active_fraction()},

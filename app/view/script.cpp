@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <optional>
 #include <sstream>
 #include <utility>
@@ -39,6 +40,14 @@ std::vector<std::string> split_words(const std::string& text) {
 // An integer that is the whole word.
 std::optional<int> whole_int(const std::string& word) {
   int value = 0;
+  const auto [end, error] = std::from_chars(word.data(), word.data() + word.size(), value);
+  if (error != std::errc() || end != word.data() + word.size()) return std::nullopt;
+  return value;
+}
+
+// A number that is the whole word.
+std::optional<double> whole_number(const std::string& word) {
+  double value = 0;
   const auto [end, error] = std::from_chars(word.data(), word.data() + word.size(), value);
   if (error != std::errc() || end != word.data() + word.size()) return std::nullopt;
   return value;
@@ -89,10 +98,19 @@ ScriptStep parse_action(const std::string& action) {
   } else if (verb == "set" && words.size() == 3) {
     step.action = ScriptStep::Action::set, step.name = words[1], step.value = words[2];
     check_setting(step.name, step.value);
+  } else if (verb == "orbit" && words.size() == 2) {
+    const std::optional<double> degrees = whole_number(words[1]);
+    if (!degrees || !std::isfinite(*degrees) || std::abs(*degrees) > 360.0)
+      throw UsageError("orbit '" + words[1] + "': expected degrees in -360..360");
+    step.action = ScriptStep::Action::orbit, step.degrees = float(*degrees);
+  } else if (verb == "wait" && words.size() == 1) {
+    step.action = ScriptStep::Action::wait;
   } else if (verb == "close" && words.size() == 1) {
     step.action = ScriptStep::Action::close;
   } else {
-    throw UsageError("'" + action + "': expected resize WxH, open SCENE, set NAME VALUE or close");
+    throw UsageError(
+        "'" + action +
+        "': expected resize WxH, open SCENE, set NAME VALUE, orbit DEG, wait or close");
   }
   return step;
 }
@@ -131,8 +149,10 @@ Script::Script(const ViewJob& job, std::vector<ScriptStep> steps)
 
 bool Script::scripted() const { return job_.frames > 0 || !steps_.empty(); }
 
-const ScriptStep* Script::next_due_step() {
+const ScriptStep* Script::next_due_step(const ViewState& state) {
   if (next_step_ == steps_.size() || steps_[next_step_].frame > frames_done_ + 1) return nullptr;
+  const bool waiting = steps_[next_step_].action == ScriptStep::Action::wait;
+  if (waiting && !state.session.full_pass_current()) return nullptr;
   return &steps_[next_step_++];
 }
 

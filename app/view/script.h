@@ -17,18 +17,21 @@ struct ViewState;
 
 // One line of a --script file: at UI frame `frame` (counted from 1), what a person could do.
 struct ScriptStep {
-  enum class Action { resize, open, set, close };
+  enum class Action { resize, open, set, orbit, wait, close };
   int frame = 1;
   Action action = Action::close;
   std::array<int, 2> size{0, 0};  // resize: the window's new size; 0x0 minimises it
   std::string name;               // open: SCENE; set: `accel` or a structure flag's name
   std::string value;              // set: its value, as the command line takes it
+  float degrees = 0.0f;           // orbit: the turn about the pivot
 };
 
 // A --script file's steps, in frame order. One step a line, "frame N: ACTION" with ACTION
 // one of `resize WxH` (0x0: minimised), `open SCENE`, `set NAME VALUE` (NAME `accel` or a
 // structure flag without its dashes, e.g. `set max-granularity 8`, applied as the panel's
-// Apply does; or `packets` with on or off, as the panel's checkbox) and `close`; blank lines and
+// Apply does; or `packets` with on or off, as the panel's checkbox), `orbit DEG` (turns the
+// camera about the pivot by DEG degrees, as a horizontal drag does), `wait` (later steps wait
+// until the current view's full-resolution pass is shown) and `close`; blank lines and
 // lines starting with '#' are skipped. `path` names the file in errors: InputError "FILE:LINE:
 // problem".
 std::vector<ScriptStep> parse_script(const std::string& text, const std::string& path);
@@ -41,8 +44,10 @@ class Script {
 
   // Scripted runs draw as fast as they can (no vsync).
   bool scripted() const;
-  // The next step due by this frame (in file order), or null; each is handed out once.
-  const ScriptStep* next_due_step();
+  // The next step due by this frame (in file order), or null; each is handed out once. A
+  // `wait` is due once the current view's full-resolution pass is shown (a window minimised
+  // meanwhile holds it until it is restored).
+  const ScriptStep* next_due_step(const ViewState& state);
   // Script mode (--frames) stops at a failed render: InputError.
   void check_frame(const ProgressiveFrame& frame) const;
   // --click, once the current view's full-resolution pass is shown: picks that pixel's walk

@@ -66,7 +66,10 @@ bool Session::take_frame() {
   frame_ = std::move(*frame);
   const auto camera = cameras_.find(frame_.generation);
   frame_camera_ = camera != cameras_.end() ? camera->second : setup_.camera;
-  if (frame_.generation == restarts_ && frame_.pass >= 2) full_pass_current_ = true;
+  if (frame_.generation == restarts_ && frame_.pass >= 2 && !full_pass_current_) {
+    full_pass_current_ = true;
+    full_pass_seconds_.push_back(frame_.seconds);
+  }
   distances_.clear();
   if (frame_.pixels.size() == size_t(frame_.width) * size_t(frame_.height))
     for (const PixelRecord& p : frame_.pixels) distances_.push_back(p.depth);

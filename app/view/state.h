@@ -44,6 +44,9 @@ class Session {
   const std::vector<float>& distances() const { return distances_; }
   // The current view's full-resolution pass (or a later one) is shown.
   bool full_pass_current() const { return full_pass_current_; }
+  // For each view whose full-resolution pass was shown: seconds from its restart to that
+  // pass (ProgressiveFrame::seconds), in order. The first includes the structure's build.
+  const std::vector<double>& full_pass_seconds() const { return full_pass_seconds_; }
   // The frame shown is of the current view and has a pass.
   bool frame_current() const { return frame_.generation == restarts_ && frame_.pass > 0; }
   // False until the first restart (a window minimised since its first frame never starts).
@@ -69,6 +72,7 @@ class Session {
   Camera frame_camera_;
   std::vector<float> distances_;
   bool full_pass_current_ = false;
+  std::vector<double> full_pass_seconds_;
 };
 
 constexpr float kMinViewport = 16.0f;  // the viewport never shrinks below this

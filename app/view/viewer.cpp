@@ -6,9 +6,11 @@
 #include <GLFW/glfw3.h>
 #include <imgui.h>
 
+#include <glm/trigonometric.hpp>
 #include <utility>
 
 #include "app/view/output.h"
+#include "core/render/camera_control.h"
 
 namespace gs::app {
 
@@ -55,7 +57,7 @@ void Viewer::run() {
 }
 
 void Viewer::run_due_steps() {
-  while (const ScriptStep* step = script_.next_due_step()) run_step(*step);
+  while (const ScriptStep* step = script_.next_due_step(state_)) run_step(*step);
 }
 
 void Viewer::run_step(const ScriptStep& step) {
@@ -68,6 +70,12 @@ void Viewer::run_step(const ScriptStep& step) {
       break;
     case ScriptStep::Action::set:
       structure_.set(state_, step.name, step.value);
+      break;
+    case ScriptStep::Action::orbit:
+      state_.session.move_camera(
+          orbit(state_.session.setup().camera, state_.pivot, glm::radians(step.degrees), 0.0f));
+      break;
+    case ScriptStep::Action::wait:  // Script::next_due_step held it until it was due
       break;
     case ScriptStep::Action::close:
       window_.close();
