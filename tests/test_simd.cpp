@@ -228,9 +228,10 @@ TEST(BoxTest, NeverReportsAMissForACrossing) {
   EXPECT_GT(crossings, boxes_tested / 4);
 }
 
-// A packet's rays against one box, four at a time (RayBoxLanes), say for every ray what the
-// one-ray test (RayBoxes) says: rays with the same direction signs (zero and -0 components
-// among them, and rays from far away, which every box passes), each over its own segment.
+// A packet's rays against one box, several at a time (RayBoxLanes, by every kernel this CPU
+// has: 4, 8 or 16 rays in lanes), say for every ray what the one-ray test (RayBoxes) says:
+// rays with the same direction signs (zero and -0 components among them, and rays from far
+// away, which every box passes), each over its own segment.
 TEST(BoxTest, RaysInLanesAgreeWithOneRayAtATime) {
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<float> unit(-1.0f, 1.0f), positive(0.0f, 1.0f);
@@ -262,14 +263,17 @@ TEST(BoxTest, RaysInLanesAgreeWithOneRayAtATime) {
       lanes.set(r, one.back(), t0, t1);
     }
     const uint64_t mask = trial % 3 == 0 ? 0x0F0F00FF0000F0F1u : ~uint64_t{0};
-    const uint64_t got = lanes.crossed(soa, 4, 0, mask);
-    EXPECT_EQ(got & ~mask, 0u);
-    for (uint32_t r = 0; r < 64; ++r) {
-      if (!(mask >> r & 1)) continue;
-      const bool expected = one[r].crossed4(soa, 4, 0, segments[r].t0, segments[r].t1) & 1u;
-      EXPECT_EQ(bool(got >> r & 1), expected) << "trial " << trial << " ray " << r;
-      agreed += bool(got >> r & 1) == expected;
-      crossings += expected;
+    for (const Isa isa : supported_isas()) {
+      const uint64_t got = kernel_for(isa).rays_crossed(lanes, soa, 4, 0, mask);
+      EXPECT_EQ(got & ~mask, 0u);
+      for (uint32_t r = 0; r < 64; ++r) {
+        if (!(mask >> r & 1)) continue;
+        const bool expected = one[r].crossed4(soa, 4, 0, segments[r].t0, segments[r].t1) & 1u;
+        EXPECT_EQ(bool(got >> r & 1), expected)
+            << isa_name(isa) << ", trial " << trial << " ray " << r;
+        agreed += bool(got >> r & 1) == expected;
+        crossings += expected;
+      }
     }
   }
   EXPECT_GT(crossings, agreed / 20);  // about one in ten rays crosses the box

@@ -81,12 +81,14 @@ struct RayBoxes {
 };
 
 // Up to 64 rays with the same direction signs (so the same near and far faces) against one
-// box at a time, four rays in lanes: RayBoxes' test with the roles swapped, for a packet's
-// rays in a leaf (docs/design.md §6.9). Arrays padded for a 4-lane read from any ray on.
+// box at a time, rays in lanes: RayBoxes' test with the roles swapped, for a packet's rays
+// in a leaf (docs/design.md §6.9). crossed() takes four rays at a time; the kernels of wider
+// instruction sets take 8 or 16 (Kernel::rays_crossed), each lane the same operations.
+// Arrays padded and aligned for a 16-lane read from any multiple of 16.
 struct RayBoxLanes {
-  static constexpr uint32_t kPadded = 64 + 4;
-  alignas(16) float origin[3][kPadded] = {}, inv_dir[3][kPadded] = {};
-  alignas(16) float t0[kPadded] = {}, t1[kPadded] = {};
+  static constexpr uint32_t kPadded = 64 + 16;
+  alignas(64) float origin[3][kPadded] = {}, inv_dir[3][kPadded] = {};
+  alignas(64) float t0[kPadded] = {}, t1[kPadded] = {};
   uint32_t near_array[3] = {0, 1, 2}, far_array[3] = {3, 4, 5};
 
   // Sets ray `lane` to `ray` searching [t_lo, t_hi] (the same lanes of each).

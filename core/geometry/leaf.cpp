@@ -141,16 +141,21 @@ void force_kernel_isa(Isa isa) {
   isa_chosen = true;
 }
 
+uint64_t rays_crossed_sse(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
+                          uint32_t box, uint64_t rays) {
+  return lanes.crossed(boxes, stride, box, rays);
+}
+
 Kernel kernel_for(Isa isa) {
   switch (isa) {
     case Isa::avx2:
-      return {4, test_lanes_avx2, test_rays_avx2};
+      return {4, test_lanes_avx2, test_rays_avx2, rays_crossed_avx2};
     case Isa::avx512:
-      return {8, test_lanes_avx512, test_rays_avx512};
+      return {8, test_lanes_avx512, test_rays_avx512, rays_crossed_avx512};
     case Isa::scalar:
       break;
   }
-  return {1, test_lanes_scalar, test_rays_scalar};
+  return {1, test_lanes_scalar, test_rays_scalar, rays_crossed_sse};
 }
 
 }  // namespace gs

@@ -134,10 +134,16 @@ struct RayHits {
 using RayTest = uint64_t (*)(const LeafView& leaf, uint32_t tri, const RayLanes& rays,
                              uint64_t lanes, RayHits& out);
 
+// Of `rays` (bits), those whose lanes of `lanes` cross box `box` of `boxes` (box_test.h's
+// layout): RayBoxLanes::crossed, 4, 8 or 16 rays at a time by instruction set.
+using RaysCrossed = uint64_t (*)(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
+                                 uint32_t box, uint64_t rays);
+
 struct Kernel {
   uint32_t lanes = 1;
   LaneTest test = nullptr;
   RayTest test_rays = nullptr;
+  RaysCrossed rays_crossed = nullptr;
 };
 Kernel kernel_for(Isa isa);
 

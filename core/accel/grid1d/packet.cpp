@@ -208,7 +208,7 @@ void Grid1D::visit_node(uint32_t id, uint64_t rays, const double* t_in, const do
     }
     const uint64_t candidates = covering & ~walk.done;
     const uint64_t meeting =
-        candidates & box_lanes.crossed(boxes, stride, uint32_t(cell), candidates);
+        candidates & kernel_.rays_crossed(box_lanes, boxes, stride, uint32_t(cell), candidates);
     uint64_t entering = 0;
     for_each_ray(meeting, [&](uint32_t r) {
       const PacketRay& ray = walk.rays[r];
@@ -250,7 +250,8 @@ void Grid1D::search_leaf(const LeafView& leaf, uint64_t rays, PacketWalk& walk) 
         id & kOnlyHere ? 0 : context.packet_mailbox.mark(id, walk.id, searching);
     counters.mailbox_rejections += uint64_t(std::popcount(already));
     uint64_t testing = searching & ~already;
-    if (leaf.boxes) testing &= box_lanes.crossed(leaf.boxes, box_stride(leaf.count), i, testing);
+    if (leaf.boxes)
+      testing &= kernel_.rays_crossed(box_lanes, leaf.boxes, box_stride(leaf.count), i, testing);
     if (testing == 0) continue;
     counters.intersection_tests += uint64_t(std::popcount(testing));
     const auto triangle = int32_t(leaf.id(i));
