@@ -78,8 +78,6 @@ void Window::close() { glfwSetWindowShouldClose(window_, GLFW_TRUE); }
 
 void Window::hide() { glfwHideWindow(window_); }
 
-void Window::poll_events() { glfwPollEvents(); }
-
 void Window::wait_events(double seconds) { glfwWaitEventsTimeout(seconds); }
 
 void Window::begin_frame() { ImGui_ImplGlfw_NewFrame(); }

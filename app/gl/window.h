@@ -25,8 +25,8 @@ class Window {
   void close();
   // Takes the window off the screen at once (closing: the workers may take a moment to stop).
   void hide();
-  void poll_events();
-  // Sleeps until an event comes or `seconds` pass: a minimised window has nothing to draw.
+  // Handles events, sleeping until one comes (glfwPostEmptyEvent from any thread counts) or
+  // `seconds` pass: the frame loop draws only when there may be something new.
   void wait_events(double seconds);
   // Starts the backend's ImGui frame (call before ImGui::NewFrame).
   void begin_frame();

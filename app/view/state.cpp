@@ -15,7 +15,8 @@ constexpr size_t kCamerasKept = 64;
 }  // namespace
 
 Session::Session(std::shared_ptr<const Scene> scene, const std::string& accel,
-                 const AccelParams& params) {
+                 const AccelParams& params, std::function<void()> frame_ready)
+    : renderer_(std::move(frame_ready)) {
   setup_.scene = std::move(scene);
   setup_.accel = accel;
   setup_.params = params;
@@ -82,8 +83,9 @@ void StatusLine::set(const std::string& text) {
 }
 
 ViewState::ViewState(std::shared_ptr<const Scene> scene, const std::string& accel,
-                     const AccelParams& params, const OverlaySelection& overlays)
-    : session(std::move(scene), accel, params), overlays(overlays) {}
+                     const AccelParams& params, const OverlaySelection& overlays,
+                     std::function<void()> frame_ready)
+    : session(std::move(scene), accel, params, std::move(frame_ready)), overlays(overlays) {}
 
 std::array<int, 2> ViewState::pixel_at(const ImVec2& p) const {
   const ViewSetup& setup = session.setup();

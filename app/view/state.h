@@ -24,7 +24,9 @@ namespace gs::app {
 // generation, which may be a view already left.
 class Session {
  public:
-  Session(std::shared_ptr<const Scene> scene, const std::string& accel, const AccelParams& params);
+  // `frame_ready` as ProgressiveRenderer takes it.
+  Session(std::shared_ptr<const Scene> scene, const std::string& accel, const AccelParams& params,
+          std::function<void()> frame_ready = {});
 
   const ViewSetup& setup() const { return setup_; }
   // Each restarts the renderer, once the viewport has a size (see resize).
@@ -99,7 +101,7 @@ class StatusLine {
 
 struct ViewState {
   ViewState(std::shared_ptr<const Scene> scene, const std::string& accel, const AccelParams& params,
-            const OverlaySelection& overlays);
+            const OverlaySelection& overlays, std::function<void()> frame_ready = {});
 
   // The viewport pixel under a window point (render pixels, top-left origin).
   std::array<int, 2> pixel_at(const ImVec2& p) const;

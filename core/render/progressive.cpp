@@ -56,6 +56,9 @@ std::string caught_error_line() {
 }  // namespace
 
 struct ProgressiveRenderer::State {
+  explicit State(std::function<void()> ready) : frame_ready(std::move(ready)) {}
+  const std::function<void()> frame_ready;  // called after a frame is published
+
   // --- Guarded by `mutex`.
   std::mutex mutex;
   std::condition_variable work_cv;       // the controller: a new generation, or stop
@@ -245,10 +248,13 @@ void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& s
       frame->counters = outcome.counters;
       frame->structure = accel->stats();
       frame->structure.build_seconds += lazy_seconds;
-      std::lock_guard lock(mutex);
-      if (generation != gen) return false;
-      this->frame = std::move(frame);
-      last_pass = pass;
+      {
+        std::lock_guard lock(mutex);
+        if (generation != gen) return false;
+        this->frame = std::move(frame);
+        last_pass = pass;
+      }
+      if (frame_ready) frame_ready();
       return true;
     };
 
@@ -293,6 +299,7 @@ void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& s
     frame->pass = last_pass + 1;
     frame->error = message;
     this->frame = std::move(frame);
+    if (frame_ready) frame_ready();
     if (!settled) {
       settled = true;
       structure.reset();
@@ -302,7 +309,8 @@ void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& s
   }
 }
 
-ProgressiveRenderer::ProgressiveRenderer() : state_(std::make_unique<State>()) {
+ProgressiveRenderer::ProgressiveRenderer(std::function<void()> frame_ready)
+    : state_(std::make_unique<State>(std::move(frame_ready))) {
   state_->controller = std::thread([state = state_.get()] { state->controller_loop(); });
 }
 

@@ -56,7 +56,9 @@ struct ProgressiveFrame {
 
 class ProgressiveRenderer {
  public:
-  ProgressiveRenderer();
+  // `frame_ready`, when given, is called on the renderer's thread after each frame is
+  // published (the viewer wakes its event loop with it, instead of polling).
+  explicit ProgressiveRenderer(std::function<void()> frame_ready = {});
   ~ProgressiveRenderer();  // stops and joins the workers
   ProgressiveRenderer(const ProgressiveRenderer&) = delete;
   ProgressiveRenderer& operator=(const ProgressiveRenderer&) = delete;
