@@ -191,8 +191,12 @@ void run_shot(const ShotJob& job) {
   std::unique_ptr<Accelerator> accel = make_accelerator(job.accel, job.params);
   check_usage(job, *accel);
   const Scene scene = load_scene(job.scene);
-  const Camera camera = camera_for(job.camera, scene, job.settings);
-  const auto [outcome, figures] = build_and_render(scene, *accel, camera, job.settings);
+  // A heatmap shows what each pixel's own rays cost; packets share a block's cost among its
+  // pixels, so a heatmap is rendered one ray at a time (the same image either way).
+  RenderSettings settings = job.settings;
+  if (job.overlays.heat != HeatKind::none) settings.packets = false;
+  const Camera camera = camera_for(job.camera, scene, settings);
+  const auto [outcome, figures] = build_and_render(scene, *accel, camera, settings);
   const nlohmann::json stats = run_stats(scene, *accel, job.params.to_json(), figures);
   const Overlays overlays = make_overlays(job, *accel, camera, outcome);
   draw_and_write(job, scene, camera, outcome, overlays, stats);

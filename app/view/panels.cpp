@@ -76,6 +76,10 @@ void heat_controls(ViewState& state, HeatMap& heat) {
     heat.invalidate();
   }
   if (state.overlays.heat == HeatKind::none) return;
+  if (state.session.setup().packets)
+    ImGui::TextWrapped(
+        "packets on: each 8x8 block's pixels share its rays' cost (untick "
+        "packets for each pixel's own)");
   if (ImGui::Checkbox("auto range", &heat.auto_range)) heat.invalidate();
   if (ImGui::DragFloatRange2("range", &heat.lo, &heat.hi, 0.1f, 0.0f, 1e6f)) {
     heat.auto_range = false;
