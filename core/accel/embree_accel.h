@@ -15,7 +15,7 @@
 // as fast as Embree's occlusion query and still names a blocking triangle with its t, u, v.
 // Invalid rays (ray_is_valid) are misses and never reach Embree. trace_packet is Embree's
 // packet mode, 16 rays at a time, with the coherent-rays hint: faster here than 8 at a time
-// by 12-25% on camera rays (README, Performance).
+// by 12-26% on camera rays (README, Performance).
 //
 // Threads: the device builds with all cores (TBB) unless AccelParams::build_threads > 0
 // (`--build-threads N`, Embree's "threads=N" device setting); tracing threads are the
