@@ -6,7 +6,8 @@
 //
 // The viewer's parts live beside this header: viewer.h (the frame loop), state.h (what the
 // parts share), script.h, camera_input.h, overlay_cache.h, viewport.h, panels.h and the
-// sections they show (structure_editor.h, scene_loader.h, inspector.h), output.h.
+// sections they show (structure_editor.h, overlay_panel.h, scene_opener.h, inspector.h),
+// output.h.
 #pragma once
 #include <array>
 #include <optional>
