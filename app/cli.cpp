@@ -214,6 +214,12 @@ Parser shot_parser() {
       {"--pixel", "X,Y", "the pixel whose walk the walk overlay shows (default: the centre)",
        [&pixel = job->pixel](const std::string& v) { pixel = parse_pixel(v); }},
       switch_flag("--ui", "draws the viewer's statistics panel over the frame", job->ui),
+      {"--compare", "SPEC",
+       "A/B: draws side B, this command line changed by SPEC (NAME=VALUE words: accel=NAME, "
+       "packets=on|off or a structure flag without its dashes, e.g. \"accel=bvh\" or "
+       "\"max-granularity=8\"), to the right of A with the same camera; with a heatmap both "
+       "share one scale and B - A follows as a third frame; prints the totals side by side",
+       [&compare = job->compare](const std::string& v) { compare = parse_compare(v); }},
       accel_flag(job->accel),
   };
   append(flags, structure_flags(job->params));

@@ -6,10 +6,11 @@
 #include <optional>
 #include <string>
 
+#include "app/compare_spec.h"
 #include "core/accel/accelerator.h"
-#include "core/scene/camera.h"
 #include "core/render/overlay.h"
 #include "core/render/render.h"
+#include "core/scene/camera.h"
 
 namespace gs::app {
 
@@ -23,6 +24,7 @@ struct ShotJob {
   OverlaySelection overlays;                // --overlay cells,states,walk,heat:KIND
   std::optional<std::array<int, 2>> pixel;  // the walk's pixel; default: the image centre
   bool ui = false;                          // draw the statistics panel over the frame
+  std::optional<CompareSpec> compare;       // --compare: side B beside A
 };
 
 // Throws UsageError for usage problems (bad settings, a Grid1D overlay with another

@@ -4,12 +4,16 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "core/render/compare.h"
 #include "tests/test_util.h"
 
 namespace {
@@ -113,6 +117,15 @@ TEST(Shot, HeatReplacesTheShadedImage) {
   EXPECT_LT(grey, int(heat.rgba.size() / 4) / 100);
 }
 
+TEST(Shot, HeatOfALazyBuildIsTheSameEveryRun) {
+  // Rendered on one thread, the lazy build's order and so every pixel's count is fixed.
+  const std::string args = "builtin:lumpy --size 96x72 --overlay heat:tests";
+  const Png first = image_of("shot", "heat_run1.png", args);
+  for (int run = 2; run <= 3; ++run)
+    EXPECT_EQ(image_of("shot", "heat_run" + std::to_string(run) + ".png", args).rgba, first.rgba)
+        << "run " << run;
+}
+
 TEST(Shot, UiChangesOnlyThePanel) {
   const std::string args = "builtin:pyramid --size 640x480";
   const Png plain = image_of("shot", "ui_plain.png", args);
@@ -149,6 +162,191 @@ TEST(Shot, BadInput) {
   r = run("shot '" + temp_path("no_such_scene.obj") + "'" + out);
   EXPECT_EQ(r.status, 1) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+// Frame `index` (each `width` wide) of a --compare PNG.
+Png frame_of(const Png& wide, int width, int index) {
+  Png frame;
+  frame.width = width;
+  frame.height = wide.height;
+  for (int y = 0; y < wide.height; ++y)
+    frame.rgba.insert(frame.rgba.end(), wide.at(index * width, y),
+                      wide.at(index * width, y) + 4 * width);
+  return frame;
+}
+
+// The figure in the totals table's row `name`, column 0 (A) or 1 (B).
+double table_figure(const std::string& out, const std::string& name, int column) {
+  const size_t at = out.find("\n" + name + " ");
+  EXPECT_NE(at, std::string::npos) << out;
+  if (at == std::string::npos) return -1.0;
+  std::istringstream line(out.substr(at + 1 + name.size()));
+  double a = 0.0, b = 0.0;
+  line >> a >> b;
+  return column == 0 ? a : b;
+}
+
+TEST(ShotCompare, EachSideIsItsStructuresImage) {
+  // Every structure answers as brute force does: A (grid1d) and B (bvh) are render's image.
+  const Outcome r =
+      run("shot " + kTopView + " --compare accel=bvh --out '" + temp_path("cmp.png") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Png wide = load_png(temp_path("cmp.png"));
+  ASSERT_EQ(wide.width, 2 * kSide);
+  ASSERT_EQ(wide.height, kSide);
+  const Png render = image_of("render", "cmp_render.png", kTopView);
+  EXPECT_EQ(frame_of(wide, kSide, 0).rgba, render.rgba);
+  EXPECT_EQ(frame_of(wide, kSide, 1).rgba, render.rgba);
+  EXPECT_NE(r.out.find("A: grid1d\nB: bvh\n"), std::string::npos) << r.out;
+}
+
+TEST(ShotCompare, TotalsAreEachRunsOwn) {
+  // Built up front, bvh and uniform count the same tests and nodes every run: the table's
+  // figures are those `render --stats` reports for each alone.
+  const std::string args = "builtin:pyramid --size 96x64 --packets off";
+  const Outcome r = run("shot " + args + " --accel bvh --compare accel=uniform --out '" +
+                        temp_path("cmp_totals.png") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const auto& [column, accel] : {std::pair{0, "bvh"}, std::pair{1, "uniform"}}) {
+    const std::string stats_path = temp_path(std::string("cmp_") + accel + ".json");
+    const Outcome alone = run("render " + args + " --accel " + accel + " --stats '" + stats_path +
+                              "' --out '" + temp_path("cmp_alone.png") + "'");
+    ASSERT_EQ(alone.status, 0) << alone.err;
+    const nlohmann::json stats = nlohmann::json::parse(slurp(stats_path));
+    const double rays = stats.at("rays").get<double>();
+    EXPECT_EQ(table_figure(r.out, "nodes", column), stats.at("nodes").get<double>()) << accel;
+    EXPECT_NEAR(table_figure(r.out, "tests per ray", column),
+                stats.at("intersection_tests").get<double>() / rays, 0.0005)
+        << accel;
+    EXPECT_NEAR(table_figure(r.out, "steps per ray", column),
+                stats.at("traversal_steps").get<double>() / rays, 0.0005)
+        << accel;
+  }
+}
+
+TEST(ShotCompare, SameRunsGiveEqualHeatmapsAndANeutralDifference) {
+  const std::string args = kTopView + " --accel bvh --overlay heat:tests";
+  const Outcome r =
+      run("shot " + args + " --compare accel=bvh --out '" + temp_path("cmp_same.png") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Png wide = load_png(temp_path("cmp_same.png"));
+  ASSERT_EQ(wide.width, 3 * kSide);
+  // One scale for both, which for equal runs is each one's own: the shot of A alone.
+  const Png alone = image_of("shot", "cmp_same_alone.png", args);
+  EXPECT_EQ(frame_of(wide, kSide, 0).rgba, alone.rgba);
+  EXPECT_EQ(frame_of(wide, kSide, 1).rgba, alone.rgba);
+  const Png difference = frame_of(wide, kSide, 2);
+  EXPECT_EQ(difference.rgba, std::vector<unsigned char>(difference.rgba.size(), 255));
+}
+
+TEST(ShotCompare, TheDifferenceIsWhiteExactlyWhereTheHeatmapsAgree) {
+  const Outcome r =
+      run("shot " + kTopView + " --accel bvh --overlay heat:tests --compare accel=uniform --out '" +
+          temp_path("cmp_diff.png") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  // With spp 1 the counts are whole numbers: a difference of 1 shows as not white while the
+  // range is at most 255 / (2 * 0.55) (the map's smallest channel step).
+  const size_t at = r.out.find("B - A from -");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  const double range = std::stod(r.out.substr(at + 12));
+  ASSERT_LE(range, 231.0) << r.out;
+  const Png wide = load_png(temp_path("cmp_diff.png"));
+  const Png a = frame_of(wide, kSide, 0), b = frame_of(wide, kSide, 1),
+            difference = frame_of(wide, kSide, 2);
+  int agree = 0, differ = 0;
+  for (int y = 0; y < kSide; ++y)
+    for (int x = 0; x < kSide; ++x) {
+      const unsigned char* d = difference.at(x, y);
+      const bool white = d[0] == 255 && d[1] == 255 && d[2] == 255;
+      EXPECT_EQ(white, same_at(a, b, x, y)) << x << "," << y;
+      (white ? agree : differ) += 1;
+    }
+  EXPECT_GT(agree, 0);
+  EXPECT_GT(differ, 0);
+}
+
+TEST(ShotCompare, BadSpecsAreUsageErrors) {
+  const std::string out = " --out '" + temp_path("cmp_bad.png") + "'";
+  for (const char* spec : {"", "accel", "accel=nosuch", "bogus=1", "packets=maybe",
+                           "max-granularity=0", "density=3"}) {
+    const Outcome r = run("shot builtin:pyramid --compare '" + std::string(spec) + "'" + out);
+    EXPECT_EQ(r.status, 2) << spec << ": " << r.err;
+    EXPECT_NE(r.err.find("--compare"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
+  // The grid1d overlays need a 1D grid on both sides.
+  const Outcome r = run("shot builtin:pyramid --overlay cells --compare accel=bvh" + out);
+  EXPECT_EQ(r.status, 2) << r.err;
+}
+
+TEST(Compare, DivergingIsWhiteAtZeroAndSymmetric) {
+  EXPECT_EQ(gs::diverging(0.0f), (std::array<uint8_t, 3>{255, 255, 255}));
+  EXPECT_EQ(gs::diverging(NAN), gs::diverging(0.0f));
+  EXPECT_EQ(gs::diverging(2.0f), gs::diverging(1.0f));  // clamped
+  for (const float x : {0.1f, 0.5f, 1.0f}) {
+    const std::array<uint8_t, 3> more = gs::diverging(x), less = gs::diverging(-x);
+    // B more: red stays full; B less: blue stays full; the same distance from white.
+    EXPECT_EQ(more[0], 255);
+    EXPECT_EQ(less[2], 255);
+    EXPECT_EQ(more[1], less[1]);
+    EXPECT_EQ(more[2], less[0]);
+    EXPECT_LT(more[2], 255);
+  }
+  EXPECT_LT(gs::diverging(1.0f)[2], gs::diverging(0.5f)[2]);  // stronger further out
+}
+
+TEST(Compare, ScalesAndDifference) {
+  const std::vector<float> a = {0.0f, 2.0f, 5.0f, NAN}, b = {1.0f, 2.0f, 3.0f, 0.0f};
+  EXPECT_EQ(gs::shared_heat_max(a, b), 5.0f);
+  EXPECT_EQ(gs::shared_heat_max({}, {0.5f}), 1.0f);  // at least 1
+  const std::vector<float> c = {0.0f, 0.0f, 8.0f}, d = {4.0f, 0.0f, 0.0f};
+  EXPECT_EQ(gs::difference_range(c, d), 4.0f);  // the 99th percentile of {4, 8}: 4
+  EXPECT_EQ(gs::difference_range(c, c), 1.0f);  // no difference: still a range
+  std::vector<float> many(200, 0.0f), shifted(200, 0.0f);
+  for (int i = 0; i < 200; ++i) shifted[size_t(i)] = float(i + 1);  // |d| = 1..200
+  EXPECT_EQ(gs::difference_range(many, shifted), 198.0f);           // index 199 * 99 / 100 = 197
+  const std::vector<uint8_t> rgba = gs::difference_image(c, d);
+  ASSERT_EQ(rgba.size(), 12u);
+  // Range 4: +4 is full red; -8 saturates at full blue.
+  const std::array<uint8_t, 3> full_more = gs::diverging(1.0f), all_less = gs::diverging(-1.0f);
+  EXPECT_TRUE(std::equal(full_more.begin(), full_more.end(), rgba.begin()));
+  EXPECT_EQ(rgba[4], 255);
+  EXPECT_EQ(rgba[5], 255);
+  EXPECT_EQ(rgba[6], 255);
+  EXPECT_TRUE(std::equal(all_less.begin(), all_less.end(), rgba.begin() + 8));
+  EXPECT_THROW(gs::difference_range(c, a), std::invalid_argument);
+}
+
+TEST(Compare, TotalsReadRunStatsAndLeaveUnmeasuredFiguresOut) {
+  const nlohmann::json measured = {{"rays", 200},
+                                   {"intersection_tests", 500},
+                                   {"traversal_steps", 100},
+                                   {"nodes", 7},
+                                   {"memory_bytes", 2000000},
+                                   {"build_seconds", 0.5},
+                                   {"rays_per_second", 1e6}};
+  nlohmann::json unmeasured = measured;
+  unmeasured["intersection_tests"] = nullptr;
+  unmeasured["traversal_steps"] = nullptr;
+  unmeasured["nodes"] = nullptr;
+  unmeasured["rays_per_second"] = 2e6;
+  const gs::CompareTotals a = gs::compare_totals("A: x", measured);
+  const gs::CompareTotals b = gs::compare_totals("B: y", unmeasured);
+  EXPECT_EQ(a.tests_per_ray, 2.5);
+  EXPECT_EQ(a.steps_per_ray, 0.5);
+  EXPECT_EQ(a.nodes, 7u);
+  EXPECT_FALSE(b.tests_per_ray);
+  EXPECT_FALSE(b.nodes);
+  const std::string table = gs::totals_table(a, b);
+  EXPECT_EQ(table.find("A: x\nB: y\n"), 0u) << table;
+  EXPECT_NE(table.find("rays/s                    1e+06          2e+06     2.00"),
+            std::string::npos)
+      << table;
+  EXPECT_NE(table.find("tests per ray             2.500            n/a"), std::string::npos)
+      << table;
+  EXPECT_NE(table.find("memory MB                 2.000          2.000     1.00"),
+            std::string::npos)
+      << table;
 }
 
 }  // namespace
