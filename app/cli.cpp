@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "app/bench_job.h"
+#include "app/compare_spec.h"
 #include "app/flags.h"
 #include "app/shot.h"
 #include "app/version.h"
@@ -235,6 +236,8 @@ Parser view_parser() {
       accel_flag(job->accel),
       packets_flag(job->packets),
       overlay_flag(job->overlays),
+      int_flag("--max-spp", "stops refining the view at N samples per pixel (default 256)", 1,
+               kMaxSpp, job->max_spp),
       int_flag("--frames", "draws at least N frames and the first full-resolution pass, then exits",
                1, 1000000, job->frames),
       {"--click", "X,Y",
@@ -246,10 +249,17 @@ Parser view_parser() {
                   job->screenshot),
       string_flag(
           "--script", "FILE",
-          "runs lines \"frame N: resize WxH|open SCENE|set NAME VALUE|close\" (NAME: accel, "
-          "packets or a structure flag)",
+          "runs lines \"frame N: resize WxH|open SCENE|set NAME VALUE|orbit DEG|wait|close\" "
+          "(NAME: accel, packets, a structure flag, compare or compare-view)",
           job->script),
       string_flag("--stats", "FILE.json", "writes the last frame's figures on exit", job->stats),
+      {"--compare", "SPEC",
+       "A/B: renders B, this view changed by SPEC (as shot --compare takes it), in a split "
+       "viewport beside A",
+       [&compare = job->compare](const std::string& v) {
+         parse_compare(v);
+         compare = v;
+       }},
   };
   append(flags, structure_flags(job->params));
   return {std::move(flags), [job](const Words& words) {
@@ -258,6 +268,8 @@ Parser view_parser() {
                                std::to_string(words.positionals.size()));
             if (!words.positionals.empty()) job->scene = words.positionals[0];
             check_structure(job->accel, words.flags, job->params);
+            if (!job->compare.empty())  // B's flags must suit B's structure: usage, exit 2
+              side_b(parse_compare(job->compare), job->accel, job->params);
             return Command{[job = *job] {
               run_view(job);
               return 0;

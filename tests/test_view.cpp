@@ -314,7 +314,9 @@ TEST(View, BadScriptsExitOneNamingTheLine) {
        {"frame 0: close", "frame 2 close", "frame 2: jump", "frame 2: resize 0x5",
         "frame 2: resize 10x99999", "frame 2: set max-granularity 0", "frame 2: set colour red",
         "frame 2: set accel nothing", "frame 2: set packets maybe", "frame 2: orbit left",
-        "frame 2: orbit 400", "frame 2: wait now", "frame 2: open", "frame two: close"}) {
+        "frame 2: orbit 400", "frame 2: wait now", "frame 2: open", "frame two: close",
+        "frame 2: set compare accel=nothing", "frame 2: set compare vertcost",
+        "frame 2: set compare-view sideways"}) {
     const std::string script = script_file("bad_script.txt", "# fine\n\n" + line + "\n");
     const Outcome bad = run("view builtin:pyramid --script '" + script + "'");
     EXPECT_EQ(bad.status, 1) << line;
@@ -332,6 +334,83 @@ TEST(View, ClickOutsideTheViewportIsAUsageError) {
   const Outcome result = run("view --click 2,2");
   EXPECT_EQ(result.status, 2);
   EXPECT_NE(result.err.find("--click"), std::string::npos) << result.err;
+}
+
+// The window's pixels of the viewport at (x, y) equal frame `index` of a --compare shot.
+int differing_channels(const gs::test::Png& window, const gs::test::Png& shot, int width, int index,
+                       int x0, int x1, int y0, int y1) {
+  int differing = 0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x)
+      for (int c = 0; c < 3; ++c)
+        differing += window.at(x, y)[c] != shot.at(index * width + x, y)[c];
+  return differing;
+}
+
+// A/B of two structures built up front (their per-pixel counts are the same every run), one
+// sample per pixel: the viewer's split viewport shows A's heatmap left of the divider and B's
+// right of it, on the scale `shot --compare` uses for the same view; difference mode is
+// shot's third frame.
+void expect_viewer_compare_is_shot(const std::string& mode) {
+  const std::string png = temp_path("view_ab.png"), stats_path = temp_path("view_ab.json");
+  const std::string script =
+      script_file("view_ab.txt", "frame 1: set compare-view " + mode + "\nframe 2: wait\n");
+  const std::string side_a = "builtin:pyramid --accel bvh --packets off --overlay heat:tests";
+  const Outcome view =
+      run_in_xvfb("view " + side_a +
+                  " --size 800x600 --max-spp 1 --compare accel=uniform "
+                  "--frames 3 --script '" +
+                  script + "' --screenshot '" + png + "' --stats '" + stats_path + "'");
+  ASSERT_EQ(view.status, 0) << view.err;
+  const nlohmann::json stats = read_json(stats_path);
+  const nlohmann::json& a = stats.at("view");
+  const nlohmann::json& b = stats.at("compare").at("view");
+  ASSERT_TRUE(stats.at("compare").at("shown").get<bool>()) << stats.dump();
+  EXPECT_EQ(stats.at("compare").at("mode"), mode);
+  EXPECT_EQ(a.at("spp"), 1);
+  EXPECT_EQ(b.at("spp"), 1);
+  EXPECT_EQ(a.at("camera"), b.at("camera"));
+  const int width = a.at("width"), height = a.at("height");
+  const std::string shot_png = temp_path("view_ab_shot.png");
+  const Outcome shot = run("shot " + side_a + " --compare accel=uniform --size " +
+                           std::to_string(width) + "x" + std::to_string(height) + " --camera '" +
+                           a.at("camera").get<std::string>() + "' --out '" + shot_png + "'");
+  ASSERT_EQ(shot.status, 0) << shot.err;
+  const gs::test::Png window = gs::test::load_png(png), frames = gs::test::load_png(shot_png);
+  ASSERT_EQ(frames.width, 3 * width);
+  constexpr int kLabels = 30;  // rows under the labels at the viewport's top
+  if (mode == "split") {
+    const int divider = width / 2;
+    EXPECT_EQ(differing_channels(window, frames, width, 0, 0, divider - 3, kLabels, height), 0);
+    EXPECT_EQ(differing_channels(window, frames, width, 1, divider + 3, width, kLabels, height), 0);
+    // A and B differ in places, so the halves test what each side drew.
+    int a_differs_from_b = 0;
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x)
+        a_differs_from_b += frames.at(x, y)[0] != frames.at(width + x, y)[0];
+    EXPECT_GT(a_differs_from_b, 0);
+  } else {
+    EXPECT_EQ(differing_channels(window, frames, width, 2, 0, width, kLabels, height), 0);
+  }
+}
+
+TEST(View, CompareSplitShowsEachSidesHeatmapOnOneScale) {
+  if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed: the viewer needs a display";
+  expect_viewer_compare_is_shot("split");
+}
+
+TEST(View, CompareDifferenceIsShotsDifferenceFrame) {
+  if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed: the viewer needs a display";
+  expect_viewer_compare_is_shot("difference");
+}
+
+TEST(View, CompareFlagsBForAnotherStructureAreUsageErrors) {
+  // grid1d reads no --density: B's flags must suit B's structure.
+  for (const char* spec : {"density=3", "accel=nothing", "vertcost"}) {
+    const Outcome result = run("view --compare '" + std::string(spec) + "'");
+    EXPECT_EQ(result.status, 2) << spec;
+    EXPECT_NE(result.err.find("--compare"), std::string::npos) << result.err;
+  }
 }
 
 }  // namespace

@@ -50,39 +50,40 @@ void write_screenshot(const gl::Window& window, const std::string& path) {
   write_png(path, size.x, size.y, rgba);
 }
 
-void write_stats(const ViewState& state, const std::string& path) {
+void write_stats(const ViewState& state, const nlohmann::json& compare, const std::string& path) {
   const Session& session = state.session;
   const ViewSetup& setup = session.setup();
   const ProgressiveFrame& frame = session.frame();
   const StructureStats& s = frame.structure;
-  const nlohmann::json stats = {{"scene", setup.scene->name},
-                                {"accel", setup.accel},
-                                {"parameters", setup.params.to_json()},
-                                {"triangles", setup.scene->triangle_count()},
-                                {"view",
-                                 {{"width", frame.width},
-                                  {"height", frame.height},
-                                  {"camera", to_string(session.frame_camera())},
-                                  {"pass", frame.pass},
-                                  {"spp", frame.spp},
-                                  {"current", session.frame_current()}}},
-                                {"packets", setup.packets},
-                                {"rays", frame.rays},
-                                {"rays_per_second", frame.rays_per_second},
-                                {"seconds", frame.seconds},
-                                {"full_pass_seconds", session.full_pass_seconds()},
-                                {"packet_rays", frame.counters.packet_rays},
-                                {"packet_fallback_rays", frame.counters.packet_fallback_rays},
-                                {"packet_active_fraction", frame.counters.packet_active_fraction()},
-                                {"build_seconds", s.build_seconds},
-                                {"nodes", optional_json(s.nodes)},
-                                {"voxels_subdivided", optional_json(s.voxels_subdivided)},
-                                {"leaves", optional_json(s.leaves)},
-                                {"traversal_states", optional_json(s.traversal_states)},
-                                {"memory_bytes", s.memory_bytes},
-                                {"voxels_over_budget", s.voxels_over_budget},
-                                {"error", frame.error},
-                                {"status", state.status.text()}};
+  nlohmann::json stats = {{"scene", setup.scene->name},
+                          {"accel", setup.accel},
+                          {"parameters", setup.params.to_json()},
+                          {"triangles", setup.scene->triangle_count()},
+                          {"view",
+                           {{"width", frame.width},
+                            {"height", frame.height},
+                            {"camera", to_string(session.frame_camera())},
+                            {"pass", frame.pass},
+                            {"spp", frame.spp},
+                            {"current", session.frame_current()}}},
+                          {"packets", setup.packets},
+                          {"rays", frame.rays},
+                          {"rays_per_second", frame.rays_per_second},
+                          {"seconds", frame.seconds},
+                          {"full_pass_seconds", session.full_pass_seconds()},
+                          {"packet_rays", frame.counters.packet_rays},
+                          {"packet_fallback_rays", frame.counters.packet_fallback_rays},
+                          {"packet_active_fraction", frame.counters.packet_active_fraction()},
+                          {"build_seconds", s.build_seconds},
+                          {"nodes", optional_json(s.nodes)},
+                          {"voxels_subdivided", optional_json(s.voxels_subdivided)},
+                          {"leaves", optional_json(s.leaves)},
+                          {"traversal_states", optional_json(s.traversal_states)},
+                          {"memory_bytes", s.memory_bytes},
+                          {"voxels_over_budget", s.voxels_over_budget},
+                          {"error", frame.error},
+                          {"status", state.status.text()}};
+  stats["compare"] = compare;
   write_json(path, stats);
 }
 

@@ -1,6 +1,7 @@
 // What the viewer writes for scripts and CI: the clicked pixel's walk (--walk-out), the
 // window (--screenshot) and the shown frame's figures (--stats).
 #pragma once
+#include <nlohmann/json.hpp>
 #include <string>
 
 namespace gs::gl {
@@ -20,7 +21,7 @@ void write_walk(const PickedWalk& picked, const std::string& path);
 void write_screenshot(const gl::Window& window, const std::string& path);
 
 // The shown frame's figures (render --stats's names where they mean the same), the view it
-// shows, and the last status line.
-void write_stats(const ViewState& state, const std::string& path);
+// shows, the last status line and, as "compare", the A/B comparison's B (CompareView::stats).
+void write_stats(const ViewState& state, const nlohmann::json& compare, const std::string& path);
 
 }  // namespace gs::app

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "app/view/camera_input.h"
+#include "app/view/compare_view.h"
 #include "app/view/inspector.h"
 #include "app/view/overlay_cache.h"
 #include "app/view/overlay_panel.h"
@@ -99,8 +100,12 @@ void states_tab(const OverlayCache& overlays) {
 }  // namespace
 
 Panels::Panels(StructureEditor& structure, OverlayCache& overlays, CameraInput& camera,
-               SceneOpener& scene)
-    : structure_(structure), overlays_(overlays), camera_(camera), scene_(scene) {}
+               SceneOpener& scene, CompareView& compare)
+    : structure_(structure),
+      overlays_(overlays),
+      camera_(camera),
+      scene_(scene),
+      compare_(compare) {}
 
 void Panels::draw(ViewState& state) {
   controls_panel(state);
@@ -115,6 +120,7 @@ void Panels::controls_panel(ViewState& state) {
   const ImGuiTreeNodeFlags open = ImGuiTreeNodeFlags_DefaultOpen;
   if (ImGui::CollapsingHeader("structure", open)) structure_.controls(state);
   if (ImGui::CollapsingHeader("overlays", open)) overlay_controls(state, overlays_.heat());
+  if (ImGui::CollapsingHeader("A/B compare", open)) compare_.controls(state, overlays_.heat());
   if (ImGui::CollapsingHeader("camera", open)) camera_.controls(state);
   if (ImGui::CollapsingHeader("scene", open)) scene_.controls();
   const std::string& status = state.status.text();

@@ -7,7 +7,9 @@
 #include <sstream>
 #include <utility>
 
+#include "app/compare_spec.h"
 #include "app/flags.h"
+#include "app/view/compare_view.h"
 #include "app/view/output.h"
 #include "app/view/state.h"
 #include "app/view/view.h"
@@ -66,6 +68,15 @@ std::optional<std::array<int, 2>> window_size(const std::string& word) {
 
 // `set NAME VALUE`'s value, checked as the command line checks it; throws UsageError.
 void check_setting(const std::string& name, const std::string& value) {
+  if (name == "compare") {
+    if (value != "off") parse_compare(value);
+    return;
+  }
+  if (name == "compare-view") {
+    if (!compare_mode_named(value))
+      throw UsageError("set compare-view '" + value + "': expected split, a, b or difference");
+    return;
+  }
   if (name == "packets") {
     if (value != "on" && value != "off")
       throw UsageError("set packets '" + value + "': expected on or off");
@@ -152,7 +163,7 @@ bool Script::scripted() const { return job_.frames > 0 || !steps_.empty(); }
 const ScriptStep* Script::next_due_step(const ViewState& state) {
   if (next_step_ == steps_.size() || steps_[next_step_].frame > frames_done_ + 1) return nullptr;
   const bool waiting = steps_[next_step_].action == ScriptStep::Action::wait;
-  if (waiting && !state.session.full_pass_current()) return nullptr;
+  if (waiting && (!state.session.full_pass_current() || state.compare_pending)) return nullptr;
   return &steps_[next_step_++];
 }
 
@@ -177,7 +188,7 @@ bool Script::frame_done(const ViewState& state, bool load_pending) {
   ++frames_done_;
   return job_.frames > 0 && frames_done_ >= job_.frames &&
          (state.session.full_pass_current() || !state.session.started()) &&
-         next_step_ == steps_.size() && !load_pending &&
+         next_step_ == steps_.size() && !load_pending && !state.compare_pending &&
          (!job_.click || (click_done_ && frames_done_ > click_frame_ + kFramesAfterClick));
 }
 

@@ -29,7 +29,9 @@ struct ScriptStep {
 // A --script file's steps, in frame order. One step a line, "frame N: ACTION" with ACTION
 // one of `resize WxH` (0x0: minimised), `open SCENE`, `set NAME VALUE` (NAME `accel` or a
 // structure flag without its dashes, e.g. `set max-granularity 8`, applied as the panel's
-// Apply does; or `packets` with on or off, as the panel's checkbox), `orbit DEG` (turns the
+// Apply does; `packets` with on or off, as the panel's checkbox; `compare SPEC` with SPEC's
+// words joined by commas, or `compare off`, as the A/B section's buttons; `compare-view`
+// with split, a, b or difference), `orbit DEG` (turns the
 // camera about the pivot by DEG degrees, as a horizontal drag does), `wait` (later steps wait
 // until the current view's full-resolution pass is shown) and `close`; blank lines and
 // lines starting with '#' are skipped. `path` names the file in errors: InputError "FILE:LINE:

@@ -45,6 +45,11 @@ void Session::set_packets(bool packets) {
   restart();
 }
 
+void Session::set_max_spp(int max_spp) {
+  setup_.max_spp = max_spp;
+  restart();
+}
+
 void Session::set_scene(std::shared_ptr<const Scene> scene, const Camera& camera) {
   setup_.scene = std::move(scene);
   setup_.camera = camera;

@@ -36,6 +36,8 @@ class Session {
   // Primary and shadow rays by packets or one at a time: the passes restart on the same
   // structure.
   void set_packets(bool packets);
+  // Accumulation stops at this many samples per pixel (ViewSetup::max_spp).
+  void set_max_spp(int max_spp);
   void set_scene(std::shared_ptr<const Scene> scene, const Camera& camera);
 
   // Takes the renderer's newest frame if it is newer than the one shown; true then.
@@ -125,6 +127,8 @@ struct ViewState {
   OverlaySelection overlays;    // what is drawn: the checkboxes and the heatmap
   bool colour_by_axis = false;  // cells coloured by cut axis instead of depth
   bool overlays_stale = true;   // the overlay cache reads the structure again at once
+  // A/B: B has not yet shown a full-resolution pass of the current view (scripts wait).
+  bool compare_pending = false;
   StatusLine status;
 };
 

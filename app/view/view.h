@@ -26,6 +26,8 @@ struct ViewJob {
   std::string accel = "grid1d";
   AccelParams params;
   bool packets = true;             // --packets on|off: RenderSettings::packets
+  int max_spp = 256;               // --max-spp N: ViewSetup::max_spp
+  std::string compare;             // --compare SPEC (checked by parse_compare); empty: none
   int width = 1280, height = 800;  // the window
   int frames = 0;                  // 0: interactive; N: exit after N frames (and the first pass)
   std::optional<std::array<double, 2>> click;  // fractions of the viewport

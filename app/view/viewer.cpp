@@ -34,12 +34,15 @@ Viewer::Viewer(const ViewJob& job, std::shared_ptr<const Scene> scene,
       window_(job.width, job.height, "gridscope view"),
       // A finished pass ends the frame's wait for input (glfwPostEmptyEvent: any thread).
       state_(scene, job.accel, job.params, job.overlays, [] { glfwPostEmptyEvent(); }),
+      compare_([] { glfwPostEmptyEvent(); }),
       scene_(scene->name),
       script_(job, std::move(steps)),
       structure_(job.accel, job.params),
-      panels_(structure_, overlays_, camera_input_, scene_) {
+      panels_(structure_, overlays_, camera_input_, scene_, compare_) {
   if (script_.scripted()) glfwSwapInterval(0);  // scripts need no vsync
   state_.session.set_packets(job.packets);
+  state_.session.set_max_spp(job.max_spp);
+  if (!job.compare.empty()) compare_.set(state_, job.compare);
 }
 
 void Viewer::run() {
@@ -60,7 +63,7 @@ void Viewer::run() {
     if (drawn) window_.swap();
   }
   window_.hide();  // gone at once, while the workers finish their rows
-  if (!job_.stats.empty()) write_stats(state_, job_.stats);
+  if (!job_.stats.empty()) write_stats(state_, compare_.stats(state_), job_.stats);
 }
 
 void Viewer::run_due_steps() {
@@ -76,7 +79,12 @@ void Viewer::run_step(const ScriptStep& step) {
       scene_.open(step.name);
       break;
     case ScriptStep::Action::set:
-      structure_.set(state_, step.name, step.value);
+      if (step.name == "compare")
+        compare_.set(state_, step.value);
+      else if (step.name == "compare-view")
+        compare_.set_mode(*compare_mode_named(step.value));  // checked by parse_script
+      else
+        structure_.set(state_, step.name, step.value);
       break;
     case ScriptStep::Action::orbit:
       state_.session.move_camera(
@@ -107,7 +115,9 @@ void Viewer::build_ui() {
   script_.click(state_);
   camera_input_.update(state_);
   overlays_.refresh(state_);
+  compare_.update(state_, overlays_.heat());
   viewport_.draw(state_, overlays_);
+  compare_.draw(state_, overlays_.heat());
   panels_.draw(state_);
 }
 

@@ -8,6 +8,7 @@
 #include "app/gl/imgui_renderer.h"
 #include "app/gl/window.h"
 #include "app/view/camera_input.h"
+#include "app/view/compare_view.h"
 #include "app/view/overlay_cache.h"
 #include "app/view/panels.h"
 #include "app/view/scene_opener.h"
@@ -43,8 +44,9 @@ class Viewer {
   gl::Window window_;  // first: the GL context outlives every GL object below
   gl::ImGuiRenderer imgui_renderer_;
   ViewportImage viewport_;
-  ViewState state_;    // holds the renderer: its destructor stops the workers
-  SceneOpener scene_;  // its destructor waits for a load in progress
+  ViewState state_;      // holds the renderer: its destructor stops the workers
+  CompareView compare_;  // B's renderer and its GL objects
+  SceneOpener scene_;    // its destructor waits for a load in progress
   Script script_;
   CameraInput camera_input_;
   OverlayCache overlays_;

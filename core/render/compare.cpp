@@ -16,10 +16,9 @@ std::optional<double> per_ray(const nlohmann::json& stats, const char* key) {
   return value.get<double>() / rays;
 }
 
-// One row: the figure's name, A's and B's text, and B / A when both are numbers and A's is
-// not zero.
-std::string row(const char* name, const std::optional<double>& a, const std::optional<double>& b,
-                const char* format) {
+// One row: A's and B's figures in `format`, and B / A when both exist and A's is not 0.
+TotalsRow row(const char* name, const std::optional<double>& a, const std::optional<double>& b,
+              const char* format) {
   const auto text = [format](const std::optional<double>& value) {
     char cell[32] = "n/a";
     if (value) std::snprintf(cell, sizeof cell, format, *value);
@@ -27,10 +26,7 @@ std::string row(const char* name, const std::optional<double>& a, const std::opt
   };
   char ratio[32] = "";
   if (a && b && *a != 0.0) std::snprintf(ratio, sizeof ratio, "%.2f", *b / *a);
-  char line[256];
-  std::snprintf(line, sizeof line, "%-16s %14s %14s %8s\n", name, text(a).c_str(), text(b).c_str(),
-                ratio);
-  return line;
+  return {name, text(a), text(b), ratio};
 }
 
 std::optional<double> as_double(const std::optional<uint64_t>& value) {
@@ -38,6 +34,22 @@ std::optional<double> as_double(const std::optional<uint64_t>& value) {
 }
 
 }  // namespace
+
+CompareTotals compare_totals(const std::string& label, const ProgressiveFrame& frame) {
+  const StructureStats& s = frame.structure;
+  const double rays = double(frame.pass_rays);
+  CompareTotals totals;
+  totals.label = label;
+  totals.rays_per_second = frame.rays_per_second;
+  if (s.counts_tests && rays > 0.0)
+    totals.tests_per_ray = double(frame.counters.intersection_tests) / rays;
+  if (s.counts_steps && rays > 0.0)
+    totals.steps_per_ray = double(frame.counters.traversal_steps) / rays;
+  totals.nodes = s.nodes;
+  totals.memory_bytes = s.memory_bytes;
+  totals.build_seconds = s.build_seconds;
+  return totals;
+}
 
 CompareTotals compare_totals(const std::string& label, const nlohmann::json& stats) {
   CompareTotals totals;
@@ -51,16 +63,26 @@ CompareTotals compare_totals(const std::string& label, const nlohmann::json& sta
   return totals;
 }
 
+std::vector<TotalsRow> totals_rows(const CompareTotals& a, const CompareTotals& b) {
+  return {row("rays/s", a.rays_per_second, b.rays_per_second, "%.4g"),
+          row("tests per ray", a.tests_per_ray, b.tests_per_ray, "%.3f"),
+          row("steps per ray", a.steps_per_ray, b.steps_per_ray, "%.3f"),
+          row("nodes", as_double(a.nodes), as_double(b.nodes), "%.0f"),
+          row("memory MB", a.memory_bytes / 1e6, b.memory_bytes / 1e6, "%.3f"),
+          row("build s", a.build_seconds, b.build_seconds, "%.4f")};
+}
+
 std::string totals_table(const CompareTotals& a, const CompareTotals& b) {
-  char header[64];
-  std::snprintf(header, sizeof header, "%-16s %14s %14s %8s\n", "figure", "A", "B", "B / A");
-  return a.label + "\n" + b.label + "\n" + header +
-         row("rays/s", a.rays_per_second, b.rays_per_second, "%.4g") +
-         row("tests per ray", a.tests_per_ray, b.tests_per_ray, "%.3f") +
-         row("steps per ray", a.steps_per_ray, b.steps_per_ray, "%.3f") +
-         row("nodes", as_double(a.nodes), as_double(b.nodes), "%.0f") +
-         row("memory MB", a.memory_bytes / 1e6, b.memory_bytes / 1e6, "%.3f") +
-         row("build s", a.build_seconds, b.build_seconds, "%.4f");
+  std::string table = a.label + "\n" + b.label + "\n";
+  char line[160];
+  std::snprintf(line, sizeof line, "%-16s %14s %14s %8s\n", "figure", "A", "B", "B / A");
+  table += line;
+  for (const TotalsRow& r : totals_rows(a, b)) {
+    std::snprintf(line, sizeof line, "%-16s %14s %14s %8s\n", r.figure.c_str(), r.a.c_str(),
+                  r.b.c_str(), r.ratio.c_str());
+    table += line;
+  }
+  return table;
 }
 
 float shared_heat_max(const std::vector<float>& a, const std::vector<float>& b) {

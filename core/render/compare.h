@@ -1,5 +1,5 @@
-// A/B comparison of two runs over the same camera (`shot --compare`): the totals side by
-// side, and per-pixel figures (a heatmap's steps or tests) of both runs on one scale with
+// A/B comparison of two runs over the same camera (`shot --compare`, the viewer's A/B): the totals
+// side by side, and per-pixel figures (a heatmap's steps or tests) of both runs on one scale with
 // the difference B - A beside them. No OpenGL: the app draws the images.
 #pragma once
 #include <array>
@@ -8,6 +8,8 @@
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "core/render/progressive.h"
 
 namespace gs {
 
@@ -22,9 +24,19 @@ struct CompareTotals {
   double build_seconds = 0.0;  // up-front and lazy
 };
 
+// From a viewer frame: its last finished pass's rate and counters, its structure's figures.
+CompareTotals compare_totals(const std::string& label, const ProgressiveFrame& frame);
+
 // From a run's statistics (run_stats: rays, intersection_tests, traversal_steps, nodes,
 // memory_bytes, build_seconds, rays_per_second).
 CompareTotals compare_totals(const std::string& label, const nlohmann::json& stats);
+
+// One figure of the two runs as text, and B / A ("" when either is missing or A's is 0).
+struct TotalsRow {
+  std::string figure, a, b, ratio;
+};
+// rays/s, tests per ray, steps per ray, nodes, memory MB, build s.
+std::vector<TotalsRow> totals_rows(const CompareTotals& a, const CompareTotals& b);
 
 // The two runs' labels, a line each, then their totals as a table, one figure a row, with
 // B's ratio to A where both exist:

@@ -244,6 +244,7 @@ void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& s
       frame->pixels = std::move(pixels);
       frame->rays_per_second = outcome.seconds > 0.0 ? double(outcome.rays) / outcome.seconds : 0.0;
       frame->rays = rays;
+      frame->pass_rays = outcome.rays;
       frame->seconds = seconds_since(start);
       frame->counters = outcome.counters;
       frame->structure = accel->stats();

@@ -48,6 +48,7 @@ struct ProgressiveFrame {
   std::vector<PixelRecord> pixels;
   double rays_per_second = 0.0;  // of the last finished pass
   uint64_t rays = 0;             // traced since the restart
+  uint64_t pass_rays = 0;        // traced by the last finished pass (the counters' rays)
   double seconds = 0.0;          // from the restart to this pass's end (build included)
   TraceCounters counters;        // of the last finished pass (packet figures among them)
   StructureStats structure;      // of the structure the frame was rendered with
