@@ -2,7 +2,10 @@
 
 // glad first: it claims the GL header guard before GLFW or ImGui could pull in GL headers.
 #include <glad/gl.h>
+#include <imgui.h>
+#include <imgui_internal.h>  // ImGuiWindow: each window's rectangle, content and scrollbars
 
+#include <algorithm>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -21,6 +24,45 @@ namespace {
 
 nlohmann::json optional_json(const std::optional<uint64_t>& value) {
   return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
+}
+
+nlohmann::json rect_json(float x, float y, float w, float h) {
+  return {{"x", x}, {"y", y}, {"w", w}, {"h", h}};
+}
+
+// Content that needs more than the visible area on an axis without a scrollbar is cut off
+// (a pixel's slack for rounding).
+bool clipped(float content, float visible, bool scrollbar) {
+  return !scrollbar && content > visible + 1.0f;
+}
+
+// A window drawn in the last frame: where it is, how much content it has and how much of it
+// shows. The visible size is the inner rectangle (no title bar or scrollbars) less padding.
+nlohmann::json window_json(const ImGuiWindow& window) {
+  const ImVec2 inner(std::max(window.InnerRect.GetWidth() - 2 * window.WindowPadding.x, 0.0f),
+                     std::max(window.InnerRect.GetHeight() - 2 * window.WindowPadding.y, 0.0f));
+  const ImVec2 content = window.ContentSize;
+  return {{"name", window.Name},
+          {"parent", window.ParentWindow ? window.ParentWindow->Name : ""},
+          {"rect", rect_json(window.Pos.x, window.Pos.y, window.Size.x, window.Size.y)},
+          {"content", {{"w", content.x}, {"h", content.y}}},
+          {"inner", {{"w", inner.x}, {"h", inner.y}}},
+          {"scrollbar", {{"x", window.ScrollbarX}, {"y", window.ScrollbarY}}},
+          {"clipped", clipped(content.x, inner.x, window.ScrollbarX) ||
+                          clipped(content.y, inner.y, window.ScrollbarY)}};
+}
+
+// The viewport and every ImGui window of the last frame (panels, splitter bars, child
+// windows, the help overlay), so that tests can check that nothing is cut off.
+nlohmann::json layout_json(const Viewport& view) {
+  nlohmann::json windows = nlohmann::json::array();
+  for (const ImGuiWindow* window : ImGui::GetCurrentContext()->Windows)
+    if (window->Active && !window->Hidden && !window->IsFallbackWindow)
+      windows.push_back(window_json(*window));
+  const ImVec2 display = ImGui::GetIO().DisplaySize;
+  return {{"display", {{"w", display.x}, {"h", display.y}}},
+          {"viewport", rect_json(view.x, view.y, view.w, view.h)},
+          {"windows", windows}};
 }
 
 }  // namespace
@@ -82,7 +124,8 @@ void write_stats(const ViewState& state, const std::string& path) {
                                 {"memory_bytes", s.memory_bytes},
                                 {"voxels_over_budget", s.voxels_over_budget},
                                 {"error", frame.error},
-                                {"status", state.status.text()}};
+                                {"status", state.status.text()},
+                                {"layout", layout_json(state.viewport)}};
   write_json(path, stats);
 }
 
