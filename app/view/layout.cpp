@@ -32,9 +32,12 @@ WindowLayout lay_out_window(float width, float height, const SplitterPositions& 
   const float view_h = std::max(height - bottom - kSplitterThickness, kMinViewport);
   layout.viewport = {0, 0, view_w, view_h};
   layout.right_splitter = {view_w, 0, kSplitterThickness, height};
-  layout.controls = {view_w + kSplitterThickness, 0, width - view_w - kSplitterThickness, height};
+  // Nothing of negative size in a window too small for the viewport and a bar.
+  const float controls_w = std::max(width - view_w - kSplitterThickness, 0.0f);
+  const float bottom_h = std::max(height - view_h - kSplitterThickness, 0.0f);
+  layout.controls = {view_w + kSplitterThickness, 0, controls_w, height};
   layout.bottom_splitter = {0, view_h, view_w, kSplitterThickness};
-  layout.bottom = {0, view_h + kSplitterThickness, view_w, height - view_h - kSplitterThickness};
+  layout.bottom = {0, view_h + kSplitterThickness, view_w, bottom_h};
   return layout;
 }
 

@@ -36,6 +36,17 @@ void choice_control(const ParamSpec& spec, AxisRule& value) {
   value = AxisRule(chosen);
 }
 
+// The widest label of the section: the widgets leave room for it at their right, so that no
+// label is cut at the panel's edge however narrow the panel is dragged (within its minimum).
+float widest_label(const Structure* structure) {
+  float widest = ImGui::CalcTextSize("structure").x;
+  if (structure)
+    for (const ParamUse& use : structure->params)
+      widest = std::max(
+          widest, ImGui::CalcTextSize(std::string(param_spec(use.param).flag.substr(2)).c_str()).x);
+  return widest;
+}
+
 }  // namespace
 
 StructureEditor::StructureEditor(const std::string& accel, const AccelParams& params)
@@ -44,6 +55,13 @@ StructureEditor::StructureEditor(const std::string& accel, const AccelParams& pa
 }
 
 void StructureEditor::controls(ViewState& state) {
+  const Structure* edited = find_structure(accel_);
+  ImGui::PushItemWidth(-(widest_label(edited) + ImGui::GetStyle().ItemInnerSpacing.x));
+  section(state, edited);
+  ImGui::PopItemWidth();
+}
+
+void StructureEditor::section(ViewState& state, const Structure* edited) {
   if (ImGui::BeginCombo("structure", accel_.c_str())) {
     for (const Structure& structure : structures()) {
       if (!viewable(structure)) continue;
@@ -53,8 +71,8 @@ void StructureEditor::controls(ViewState& state) {
     }
     ImGui::EndCombo();
   }
-  if (const Structure* structure = find_structure(accel_))
-    for (const ParamUse& use : structure->params) {
+  if (edited)
+    for (const ParamUse& use : edited->params) {
       const ParamSpec& spec = param_spec(use.param);
       if (spec.structure_flag) param_control(spec, use.default_text);
     }
