@@ -46,10 +46,10 @@ void expect_tiles(const WindowLayout& layout, float width, float height) {
 }
 
 TEST(ViewLayout, UndraggedPanelsTakeAShareOfTheWindowWithinBounds) {
-  // 1024x640: 30% of each side (307.2 and 192), both within their bounds.
+  // 1024x640: 30% of each side (307.2, rounded to 307, and 192), both within their bounds.
   WindowLayout small = lay_out_window(1024, 640, {});
-  EXPECT_FLOAT_EQ(small.controls.w, 307.2f);
-  EXPECT_FLOAT_EQ(small.viewport.w, 1024 - 307.2f - gs::app::kSplitterThickness);
+  EXPECT_FLOAT_EQ(small.controls.w, 307.0f);
+  EXPECT_FLOAT_EQ(small.viewport.w, 1024 - 307 - gs::app::kSplitterThickness);
   EXPECT_FLOAT_EQ(small.bottom.h, 192.0f);
   EXPECT_FLOAT_EQ(small.viewport.h, 640 - 192 - gs::app::kSplitterThickness);
   expect_tiles(small, 1024, 640);

@@ -1,6 +1,7 @@
 #include "app/view/layout.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace gs::app {
 
@@ -17,7 +18,9 @@ constexpr float kBottomShare = 0.3f, kBottomDefaultMax = 300.0f;
 float panel_size(float side, float dragged, float share, float min, float default_max) {
   const float wanted = dragged > 0 ? dragged : std::clamp(side * share, min, default_max);
   const float viewport_min = dragged > 0 ? kMinViewportDrag : kMinViewport;
-  return std::clamp(wanted, min, std::max(side - kSplitterThickness - viewport_min, min));
+  // Whole units: ImGui floors window positions, so a fractional edge would overlap a bar.
+  return std::round(
+      std::clamp(wanted, min, std::max(side - kSplitterThickness - viewport_min, min)));
 }
 
 }  // namespace

@@ -40,8 +40,9 @@ constexpr float kControlsMinWidth = 280.0f, kBottomMinHeight = 140.0f;
 // minimums and this keeps the minimums' share and squeezes the viewport down to 16).
 constexpr float kMinViewportDrag = 160.0f;
 
-// The tiling of a width x height window for the splitters' positions: the viewport, the bars
-// and the panels cover the window without overlapping. Panels that were not dragged take a
+// The tiling of a width x height window (whole units) for the splitters' positions: the
+// viewport, the bars and the panels cover the window without overlapping, edges on whole
+// units. Panels that were not dragged take a
 // share of the window within bounds; dragged ones keep their size within the minimums above.
 WindowLayout lay_out_window(float width, float height, const SplitterPositions& splitters);
 
