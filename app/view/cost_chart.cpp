@@ -76,6 +76,9 @@ void bars(ImDrawList* draw, const Plot& plot, const std::vector<Alternative>& cu
   // g labels no closer than one label's width apart.
   const float label_width = ImGui::CalcTextSize("0000").x;
   const int label_every = std::max(1, int(std::ceil(label_width / slot)));
+  const auto chosen_at = std::find_if(
+      cuts.begin(), cuts.end(), [&](const Alternative& cut) { return cut.granularity == chosen; });
+  const int chosen_index = int(chosen_at - cuts.begin());
   for (size_t i = 0; i < cuts.size(); ++i) {
     const float x0 = plot.left + slot * (float(i) + 0.15f), x1 = x0 + slot * 0.7f;
     double base = 0;
@@ -88,7 +91,10 @@ void bars(ImDrawList* draw, const Plot& plot, const std::vector<Alternative>& cu
     if (is_chosen)
       draw->AddRect(ImVec2(x0 - 2, plot.y(base) - 2), ImVec2(x1 + 2, plot.bottom), kChosenColour,
                     0.0f, 0, 2.0f);
-    if (is_chosen || int(i) % label_every == 0) {
+    // Every label_every-th g, and the chosen one with room beside it.
+    const bool labelled =
+        int(i) % label_every == 0 && std::abs(int(i) - chosen_index) >= label_every;
+    if (is_chosen || labelled) {
       const std::string g = std::to_string(cuts[i].granularity);
       draw->AddText(ImVec2((x0 + x1 - ImGui::CalcTextSize(g.c_str()).x) * 0.5f, plot.bottom + 2),
                     is_chosen ? kChosenColour : kAxisColour, g.c_str());
@@ -96,8 +102,7 @@ void bars(ImDrawList* draw, const Plot& plot, const std::vector<Alternative>& cu
   }
 }
 
-// The uncut voxel's cost: a line across the bars, or along the top when it is off the scale
-// (uncut voxels can cost twenty times the best cut, which would flatten the bars).
+// The uncut voxel's cost: a line across the bars, or along the top when it is off the scale.
 void uncut_line(ImDrawList* draw, const Plot& plot, double uncut) {
   const bool off_scale = uncut > plot.scale.top;
   const float y = plot.y(uncut);
@@ -140,6 +145,9 @@ void cost_chart(const VoxelCostReport& report, const ImVec2& size) {
   for (const AxisPlan& plan : report.plans)
     if (plan.axis == report.axis) uncut = plan.no_split;
   for (const Alternative& cut : cuts) largest = std::max(largest, cut.cost.total);
+  // The scale takes in the uncut cost unless that would squash the bars below half height
+  // (an uncut voxel can cost twenty times the best cut).
+  if (uncut <= 2 * largest) largest = std::max(largest, uncut);
   if (cuts.empty()) {
     ImGui::TextWrapped("No granularities were tried on this voxel.");
     return;
