@@ -425,6 +425,16 @@ TEST(View, LayoutFitsEachWindowSizeWithNothingClipped) {
   }
 }
 
+TEST(View, LayoutOtherTabsFitTheSmallestWindow) {
+  if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed: the viewer needs a display";
+  for (const std::string tab : {"statistics", "states"}) {
+    SCOPED_TRACE(tab);
+    const nlohmann::json figures = clicked_run(1024, 640, "frame 2: tab " + tab + "\n");
+    expect_nothing_clipped(figures.at("layout"));
+    expect_tiled(figures.at("layout"));
+  }
+}
+
 TEST(View, LayoutSplitterDragsResizeTheViewportAndTheRender) {
   if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed: the viewer needs a display";
   // At 1280x800 the panels take 30%: 384 on the right, 240 below, each beyond a 6-unit bar.

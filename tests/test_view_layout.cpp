@@ -1,7 +1,7 @@
 // The viewer's pure parts that need no display: the window layout from the window's size and
 // the splitters' positions (layout.h), the cost chart's value axis and hit testing
 // (cost_chart.h), the states table's sorting (states_table.h) and the script steps that move
-// a splitter or press the help key (script.h).
+// a splitter, press the help key or choose a tab (script.h).
 #include <gtest/gtest.h>
 
 #include <string>
@@ -150,12 +150,12 @@ TEST(ViewLayout, StatesSortByAnyColumnTiesByState) {
   EXPECT_EQ(order(StateColumn::rays, true), (std::vector<uint32_t>{2, 3, 1, 0}));
 }
 
-TEST(ViewLayout, ScriptStepsMoveSplittersAndPressTheHelpKey) {
+TEST(ViewLayout, ScriptStepsMoveSplittersPressTheHelpKeyAndChooseTabs) {
   const std::vector<gs::app::ScriptStep> steps = gs::app::parse_script(
       "frame 3: drag-splitter right -120\nframe 4: drag-splitter bottom 40\nframe 5: key F1\n"
-      "frame 6: key ?\n",
+      "frame 6: key ?\nframe 7: tab states\n",
       "s.txt");
-  ASSERT_EQ(steps.size(), 4u);
+  ASSERT_EQ(steps.size(), 5u);
   using Action = gs::app::ScriptStep::Action;
   EXPECT_EQ(steps[0].action, Action::drag_splitter);
   EXPECT_EQ(steps[0].splitter, gs::app::Splitter::right);
@@ -164,9 +164,11 @@ TEST(ViewLayout, ScriptStepsMoveSplittersAndPressTheHelpKey) {
   EXPECT_EQ(steps[1].pixels, 40);
   EXPECT_EQ(steps[2].action, Action::help_key);
   EXPECT_EQ(steps[3].action, Action::help_key);
+  EXPECT_EQ(steps[4].action, Action::tab);
+  EXPECT_EQ(steps[4].name, "states");
   for (const std::string bad :
        {"drag-splitter left 5", "drag-splitter right", "drag-splitter right 5px",
-        "drag-splitter bottom 99999", "key F2", "key", "key F1 F1"}) {
+        "drag-splitter bottom 99999", "key F2", "key", "key F1 F1", "tab cost", "tab"}) {
     try {
       gs::app::parse_script("# fine\n\nframe 2: " + bad + "\n", "s.txt");
       ADD_FAILURE() << bad << " was accepted";

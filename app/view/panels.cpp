@@ -105,24 +105,32 @@ void Panels::controls_panel(ViewState& state, const Rect& rect) {
   ImGui::End();
 }
 
+void Panels::select_tab(const std::string& name) { tab_asked_ = name; }
+
+// BeginTabItem for a tab of the bottom panel, selecting it if a script asked for it.
+bool Panels::tab(const char* name) {
+  return ImGui::BeginTabItem(name, nullptr, tab_asked_ == name ? ImGuiTabItemFlags_SetSelected : 0);
+}
+
 void Panels::bottom_panel(ViewState& state, const Rect& rect) {
   place(rect);
   ImGui::Begin("statistics and inspector", nullptr, kPanelFlags);
   if (ImGui::BeginTabBar("tabs")) {
-    if (ImGui::BeginTabItem("walk")) {
+    if (tab("walk")) {
       walk_tab(state);
       ImGui::EndTabItem();
     }
-    if (ImGui::BeginTabItem("statistics")) {
+    if (tab("statistics")) {
       statistics_tab(state, overlays_);
       ImGui::EndTabItem();
     }
-    if (ImGui::BeginTabItem("states")) {
+    if (tab("states")) {
       states_.draw(overlays_.states());
       ImGui::EndTabItem();
     }
     ImGui::EndTabBar();
   }
+  tab_asked_.clear();
   ImGui::End();
 }
 

@@ -3,6 +3,8 @@
 // the scene, and the status line. Below the viewport, three tabs: the walk inspector, the
 // statistics and the states table (sortable by any column).
 #pragma once
+#include <string>
+
 #include "app/view/layout.h"
 #include "app/view/states_table.h"
 
@@ -14,6 +16,9 @@ class SceneOpener;
 class StructureEditor;
 struct ViewState;
 
+// The bottom panel's tabs, left to right.
+inline constexpr const char* kBottomTabs[] = {"walk", "statistics", "states"};
+
 class Panels {
  public:
   // The parts that draw sections of their own.
@@ -21,16 +26,21 @@ class Panels {
          SceneOpener& scene);
 
   void draw(ViewState& state, const WindowLayout& layout);
+  // A script's `tab NAME` (one of kBottomTabs): the bottom panel shows that tab from the next
+  // frame.
+  void select_tab(const std::string& name);
 
  private:
   void controls_panel(ViewState& state, const Rect& rect);
   void bottom_panel(ViewState& state, const Rect& rect);
+  bool tab(const char* name);
 
   StructureEditor& structure_;
   OverlayCache& overlays_;
   CameraInput& camera_;
   SceneOpener& scene_;
   StatesTable states_;
+  std::string tab_asked_;  // by select_tab, until drawn
 };
 
 }  // namespace gs::app

@@ -9,6 +9,7 @@
 
 #include "app/flags.h"
 #include "app/view/output.h"
+#include "app/view/panels.h"
 #include "app/view/state.h"
 #include "app/view/view.h"
 #include "core/base/error.h"
@@ -117,6 +118,11 @@ ScriptStep parse_action(const std::string& action) {
     if (words[1] != "F1" && words[1] != "?")
       throw UsageError("key '" + words[1] + "': expected F1 or ? (the help overlay)");
     step.action = ScriptStep::Action::help_key;
+  } else if (verb == "tab" && words.size() == 2) {
+    if (std::find(std::begin(kBottomTabs), std::end(kBottomTabs), words[1]) ==
+        std::end(kBottomTabs))
+      throw UsageError("tab '" + words[1] + "': expected walk, statistics or states");
+    step.action = ScriptStep::Action::tab, step.name = words[1];
   } else if (verb == "wait" && words.size() == 1) {
     step.action = ScriptStep::Action::wait;
   } else if (verb == "close" && words.size() == 1) {
@@ -124,7 +130,7 @@ ScriptStep parse_action(const std::string& action) {
   } else {
     throw UsageError("'" + action +
                      "': expected resize WxH, open SCENE, set NAME VALUE, orbit DEG, drag-splitter "
-                     "right|bottom PIXELS, key F1, wait or close");
+                     "right|bottom PIXELS, key F1, tab NAME, wait or close");
   }
   return step;
 }

@@ -88,6 +88,9 @@ void Viewer::run_step(const ScriptStep& step) {
     case ScriptStep::Action::help_key:
       help_.toggle();
       break;
+    case ScriptStep::Action::tab:
+      panels_.select_tab(step.name);
+      break;
     case ScriptStep::Action::wait:  // Script::next_due_step held it until it was due
       break;
     case ScriptStep::Action::close:
