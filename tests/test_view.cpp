@@ -393,12 +393,13 @@ void expect_tiled(const nlohmann::json& layout) {
   EXPECT_NEAR(area, width * height, 1.0);
 }
 
-// A click's run of lumpy at WIDTHxHEIGHT with `script` (if any): the stats.
-nlohmann::json clicked_run(int width, int height, const std::string& script_text = "") {
+// A click's run of lumpy at WIDTHxHEIGHT with `script` (if any) and `flags`: the stats.
+nlohmann::json clicked_run(int width, int height, const std::string& script_text = "",
+                           const std::string& flags = "") {
   const std::string size = std::to_string(width) + "x" + std::to_string(height);
   const std::string stats = temp_path("layout_" + size + ".json");
-  std::string args =
-      "view builtin:lumpy --size " + size + " --frames 10 --click 0.5,0.5 --stats '" + stats + "'";
+  std::string args = "view builtin:lumpy --size " + size +
+                     " --frames 10 --click 0.5,0.5 --stats '" + stats + "' " + flags;
   if (!script_text.empty()) args += " --script '" + script_file("layout.txt", script_text) + "'";
   const Outcome view = run_in_xvfb(args, "", "1920x1080x24");
   EXPECT_EQ(view.status, 0) << view.err;
@@ -446,6 +447,21 @@ TEST(View, LayoutSplitterDragsResizeTheViewportAndTheRender) {
   EXPECT_EQ(figures.at("view").at("width"), 990);
   EXPECT_EQ(figures.at("view").at("height"), 504);
   EXPECT_TRUE(figures.at("view").at("current").get<bool>());
+  expect_nothing_clipped(layout);
+  expect_tiled(layout);
+}
+
+TEST(View, LayoutSplittersDraggedPastTheLimitsLeaveThePanelsTheirMinimums) {
+  if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed: the viewer needs a display";
+  // The heatmap's controls are the controls panel's widest.
+  const nlohmann::json figures = clicked_run(
+      1024, 640, "frame 2: drag-splitter right 1000\nframe 2: drag-splitter bottom 1000\n",
+      "--overlay heat:tests,walk");
+  const nlohmann::json& layout = figures.at("layout");
+  EXPECT_EQ(find_window(layout, "controls")->at("rect").at("w"), 280);
+  EXPECT_EQ(find_window(layout, "statistics and inspector")->at("rect").at("h"), 180);
+  EXPECT_EQ(figures.at("view").at("width"), 1024 - 280 - 6);
+  EXPECT_EQ(figures.at("view").at("height"), 640 - 180 - 6);
   expect_nothing_clipped(layout);
   expect_tiled(layout);
 }

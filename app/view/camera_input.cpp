@@ -131,7 +131,10 @@ void CameraInput::controls(ViewState& state) {
     }
   }
   ImGui::Checkbox("fly (W/A/S/D)", &fly_);
-  ImGui::TextDisabled("F1 or ?: every mouse and key control");
+  // Wrapped (TextDisabled does not wrap): the panel may be dragged narrow.
+  ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+  ImGui::TextWrapped("F1 or ?: every mouse and key control");
+  ImGui::PopStyleColor();
 }
 
 }  // namespace gs::app

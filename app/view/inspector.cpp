@@ -221,7 +221,7 @@ void walk_tab(ViewState& state) {
   cell_navigation(state);
   const ImVec2 room = ImGui::GetContentRegionAvail();
   ImGui::BeginChild("walk steps", ImVec2(room.x * 0.5f, 0));
-  walk_timeline(state, std::clamp(room.y * 0.3f, 36.0f, 80.0f));
+  walk_timeline(state, std::clamp(room.y * 0.3f, 28.0f, 80.0f));
   walk_table(state);
   ImGui::EndChild();
   ImGui::SameLine();

@@ -35,7 +35,7 @@ constexpr float kSplitterThickness = 6.0f;
 // The controls panel's widgets (sliders with their labels, the camera's text field) stay
 // usable down to this width; the bottom panel's tab bar, one navigation row and a few table
 // rows fit in this height. A smaller window takes it from the viewport first.
-constexpr float kControlsMinWidth = 280.0f, kBottomMinHeight = 140.0f;
+constexpr float kControlsMinWidth = 280.0f, kBottomMinHeight = 180.0f;
 // Dragging never shrinks the viewport below this (a window too small for both the panels'
 // minimums and this keeps the minimums' share and squeezes the viewport down to 16).
 constexpr float kMinViewportDrag = 160.0f;

@@ -1,5 +1,6 @@
 #include "app/view/splitters.h"
 
+#include <algorithm>
 #include <initializer_list>
 
 namespace gs::app {
@@ -19,11 +20,12 @@ void Splitters::draw(const WindowLayout& layout) {
 }
 
 void Splitters::move(Splitter which, float pixels, const WindowLayout& layout) {
-  // The panel on the far side of the bar gives up what the viewport gains.
+  // The panel on the far side of the bar gives up what the viewport gains, down to its
+  // minimum (a size of 0 would mean "not dragged").
   if (which == Splitter::right)
-    positions_.controls_width = layout.controls.w - pixels;
+    positions_.controls_width = std::max(layout.controls.w - pixels, kControlsMinWidth);
   else
-    positions_.bottom_height = layout.bottom.h - pixels;
+    positions_.bottom_height = std::max(layout.bottom.h - pixels, kBottomMinHeight);
 }
 
 void Splitters::bar(const char* name, const Rect& rect, Splitter which,
