@@ -22,9 +22,11 @@ namespace {
 
 const ImVec4 kWarning(1.0f, 0.4f, 0.4f, 1.0f);  // errors and figures that need attention
 // No title bars: the layout places and sizes the panels, and a small window needs the rows.
+// A click in a panel leaves it behind the help overlay.
 constexpr ImGuiWindowFlags kPanelFlags = ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoMove |
                                          ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
-                                         ImGuiWindowFlags_NoSavedSettings;
+                                         ImGuiWindowFlags_NoSavedSettings |
+                                         ImGuiWindowFlags_NoBringToFrontOnFocus;
 
 void place(const Rect& rect) {
   ImGui::SetNextWindowPos(ImVec2(rect.x, rect.y));
