@@ -63,6 +63,16 @@ void cell_navigation(ViewState& state) {
   select_cell(state, cell);
 }
 
+// True in the first frame that shows another inspected cell (kept in ImGui's storage of the
+// panel), when the timeline and the table scroll to it: the buttons and the slider may pick
+// a cell out of their view.
+bool inspected_cell_moved(int cell) {
+  int& shown = *ImGui::GetStateStorage()->GetIntRef(ImGui::GetID("inspected cell"), -1);
+  const bool moved = shown != cell;
+  shown = cell;
+  return moved;
+}
+
 void step_tooltip(const WalkCell& c, int i) {
   ImGui::SetTooltip("step %d: depth %u, %u tests, %u rejected, nearest hit so far %d\n%s", i,
                     c.depth, c.tests, c.rejections, c.hit, descents_text(c).c_str());
@@ -71,7 +81,7 @@ void step_tooltip(const WalkCell& c, int i) {
 // The walk as a row of steps, one column each: the bars are the triangle tests (blue) and
 // mailbox rejections (red) made in that cell, on one scale; the inspected step is
 // highlighted, and clicking a column inspects that step.
-void walk_timeline(ViewState& state, float height) {
+void walk_timeline(ViewState& state, float height, bool follow) {
   const std::vector<WalkCell>& cells = state.picked.walk->cells;
   const int count = int(cells.size());
   const float room = ImGui::GetContentRegionAvail().x;
@@ -89,6 +99,8 @@ void walk_timeline(ViewState& state, float height) {
     const float x = origin.x + step * float(i);
     if (i == state.picked.cell)
       draw->AddRectFilled(ImVec2(x, origin.y), ImVec2(x + step, bottom), kCurrentColour);
+    if (i == state.picked.cell && follow)
+      ImGui::SetScrollFromPosX(ImGui::GetCursorStartPos().x + step * (float(i) + 0.5f));
     const WalkCell& c = cells[size_t(i)];
     const float half = step * 0.4f, per_unit = (bar_room - 2) / float(most);
     draw->AddRectFilled(ImVec2(x + step * 0.1f, bottom - per_unit * float(c.tests)),
@@ -106,7 +118,7 @@ void walk_timeline(ViewState& state, float height) {
   ImGui::EndChild();
 }
 
-void walk_row(ViewState& state, int i) {
+void walk_row(ViewState& state, int i, bool follow) {
   const WalkCell& c = state.picked.walk->cells[size_t(i)];
   const std::string descents = descents_text(c);
   ImGui::TableNextRow();
@@ -117,6 +129,7 @@ void walk_row(ViewState& state, int i) {
                         ImGuiSelectableFlags_SpanAllColumns,
                         ImVec2(0, lines * ImGui::GetTextLineHeight())))
     select_cell(state, i);
+  if (follow && i == state.picked.cell && !ImGui::IsItemVisible()) ImGui::SetScrollHereY();
   ImGui::TableNextColumn();
   ImGui::Text("%u", c.depth);
   ImGui::TableNextColumn();
@@ -137,7 +150,7 @@ void walk_row(ViewState& state, int i) {
 
 // Rows are as tall as their descents, so every row is drawn (ImGuiListClipper needs rows of
 // one height); walks are hundreds of cells, not millions.
-void walk_table(ViewState& state) {
+void walk_table(ViewState& state, bool follow) {
   const ImGuiTableFlags flags = ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollY |
                                 ImGuiTableFlags_ScrollX | ImGuiTableFlags_Resizable |
                                 ImGuiTableFlags_SizingFixedFit | ImGuiTableFlags_BordersInnerV;
@@ -147,7 +160,7 @@ void walk_table(ViewState& state) {
     ImGui::TableSetupColumn(name);
   ImGui::TableSetupScrollFreeze(1, 1);
   ImGui::TableHeadersRow();
-  for (int i = 0; i < int(state.picked.walk->cells.size()); ++i) walk_row(state, i);
+  for (int i = 0; i < int(state.picked.walk->cells.size()); ++i) walk_row(state, i, follow);
   ImGui::EndTable();
 }
 
@@ -221,8 +234,9 @@ void walk_tab(ViewState& state) {
   cell_navigation(state);
   const ImVec2 room = ImGui::GetContentRegionAvail();
   ImGui::BeginChild("walk steps", ImVec2(room.x * 0.5f, 0));
-  walk_timeline(state, std::clamp(room.y * 0.3f, 28.0f, 80.0f));
-  walk_table(state);
+  const bool follow = inspected_cell_moved(picked.cell);
+  walk_timeline(state, std::clamp(room.y * 0.3f, 28.0f, 80.0f), follow);
+  walk_table(state, follow);
   ImGui::EndChild();
   ImGui::SameLine();
   ImGui::BeginChild("cost", ImVec2(0, 0));
