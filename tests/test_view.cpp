@@ -35,16 +35,15 @@ Outcome run(const std::string& args, const std::string& prefix = "") {
 
 bool have_xvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 0; }
 
-// Runs `env ENV gridscope args` in a fresh Xvfb display. The status is the program's, kept in
-// a file by a shell inside the display: xvfb-run's own is 5 when its clean-up trips over a
-// program that exits at once.
-Outcome run_in_xvfb(const std::string& args, const std::string& env = "") {
+// Runs `env ENV gridscope args` in a fresh Xvfb display of `screen` (WxHxDEPTH, at least the
+// window's size). The status is the program's, kept in a file by a shell inside the display:
+// xvfb-run's own is 5 when its clean-up trips over a program that exits at once.
+Outcome run_in_xvfb(const std::string& args, const std::string& env = "",
+                    const std::string& screen = "1280x800x24") {
   const std::string status_path = temp_path("xvfb_status.txt");
   std::remove(status_path.c_str());
-  Outcome outcome =
-      run(args, "env " + env +
-                    " xvfb-run -a -s '-screen 0 1280x800x24' sh -c '\"$0\" \"$@\"; echo $? >" +
-                    status_path + "'");
+  Outcome outcome = run(args, "env " + env + " xvfb-run -a -s '-screen 0 " + screen +
+                                  "' sh -c '\"$0\" \"$@\"; echo $? >" + status_path + "'");
   const std::string status = slurp(status_path);
   outcome.status = status.empty() ? -1 : std::stoi(status);
   return outcome;
@@ -411,6 +410,149 @@ TEST(View, CompareFlagsBForAnotherStructureAreUsageErrors) {
     EXPECT_EQ(result.status, 2) << spec;
     EXPECT_NE(result.err.find("--compare"), std::string::npos) << result.err;
   }
+}
+
+// The layout (app/view/layout.h) as --stats's "layout" describes the last frame: the
+// viewport's rectangle and every ImGui window's rectangle, content and visible sizes.
+
+struct Box {
+  double x, y, w, h;
+};
+
+Box box(const nlohmann::json& rect) {
+  return {rect.at("x"), rect.at("y"), rect.at("w"), rect.at("h")};
+}
+
+double overlap(const Box& a, const Box& b) {
+  const double w = std::min(a.x + a.w, b.x + b.w) - std::max(a.x, b.x);
+  const double h = std::min(a.y + a.h, b.y + b.h) - std::max(a.y, b.y);
+  return w > 0 && h > 0 ? w * h : 0.0;
+}
+
+// The window named `name` in the layout, or null.
+const nlohmann::json* find_window(const nlohmann::json& layout, const std::string& name) {
+  for (const nlohmann::json& window : layout.at("windows"))
+    if (window.at("name") == name) return &window;
+  return nullptr;
+}
+
+// No window's content is cut off, and every top-level window lies inside the display (child
+// windows may be scrolled out of their parent's view).
+void expect_nothing_clipped(const nlohmann::json& layout) {
+  const double width = layout.at("display").at("w"), height = layout.at("display").at("h");
+  ASSERT_FALSE(layout.at("windows").empty());
+  for (const nlohmann::json& window : layout.at("windows")) {
+    EXPECT_FALSE(window.at("clipped").get<bool>()) << window.dump();
+    if (window.at("parent") != "") continue;
+    const Box r = box(window.at("rect"));
+    EXPECT_GE(r.x, 0.0) << window.dump();
+    EXPECT_GE(r.y, 0.0) << window.dump();
+    EXPECT_LE(r.x + r.w, width) << window.dump();
+    EXPECT_LE(r.y + r.h, height) << window.dump();
+  }
+}
+
+// The viewport, the two splitter bars and the two panels cover the display without
+// overlapping.
+void expect_tiled(const nlohmann::json& layout) {
+  std::vector<Box> parts = {box(layout.at("viewport"))};
+  for (const std::string name :
+       {"controls", "statistics and inspector", "##right splitter", "##bottom splitter"}) {
+    const nlohmann::json* window = find_window(layout, name);
+    ASSERT_NE(window, nullptr) << name;
+    parts.push_back(box(window->at("rect")));
+  }
+  double area = 0;
+  for (size_t i = 0; i < parts.size(); ++i) {
+    area += parts[i].w * parts[i].h;
+    for (size_t j = i + 1; j < parts.size(); ++j)
+      EXPECT_EQ(overlap(parts[i], parts[j]), 0.0) << i << " and " << j;
+  }
+  const double width = layout.at("display").at("w"), height = layout.at("display").at("h");
+  EXPECT_NEAR(area, width * height, 1.0);
+}
+
+// A click's run of lumpy at WIDTHxHEIGHT with `script` (if any) and `flags`: the stats.
+nlohmann::json clicked_run(int width, int height, const std::string& script_text = "",
+                           const std::string& flags = "") {
+  const std::string size = std::to_string(width) + "x" + std::to_string(height);
+  const std::string stats = temp_path("layout_" + size + ".json");
+  std::string args = "view builtin:lumpy --size " + size +
+                     " --frames 10 --click 0.5,0.5 --stats '" + stats + "' " + flags;
+  if (!script_text.empty()) args += " --script '" + script_file("layout.txt", script_text) + "'";
+  const Outcome view = run_in_xvfb(args, "", "1920x1080x24");
+  EXPECT_EQ(view.status, 0) << view.err;
+  return read_json(stats);
+}
+
+TEST(View, LayoutFitsEachWindowSizeWithNothingClipped) {
+  if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed: the viewer needs a display";
+  for (const auto& [width, height] : {std::pair{1024, 640}, {1280, 800}, {1920, 1080}}) {
+    SCOPED_TRACE(std::to_string(width) + "x" + std::to_string(height));
+    const nlohmann::json figures = clicked_run(width, height);
+    ASSERT_TRUE(figures.contains("layout")) << figures.dump();
+    const nlohmann::json& layout = figures["layout"];
+    EXPECT_EQ(layout.at("display").at("w"), width);
+    EXPECT_EQ(layout.at("display").at("h"), height);
+    expect_nothing_clipped(layout);
+    expect_tiled(layout);
+    // The render is the viewport's size, and the inspector shows the clicked walk.
+    EXPECT_EQ(figures.at("view").at("width"), int(layout.at("viewport").at("w").get<double>()));
+    EXPECT_EQ(figures.at("view").at("height"), int(layout.at("viewport").at("h").get<double>()));
+    const std::string dump = layout.dump();  // the cost chart's child window (ImGui names it
+    EXPECT_NE(dump.find("statistics and inspector/cost_"), std::string::npos);  // NAME_ID)
+    EXPECT_EQ(find_window(layout, "mouse and keyboard"), nullptr);              // help closed
+  }
+}
+
+TEST(View, LayoutOtherTabsFitTheSmallestWindow) {
+  if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed: the viewer needs a display";
+  for (const std::string tab : {"statistics", "states"}) {
+    SCOPED_TRACE(tab);
+    const nlohmann::json figures = clicked_run(1024, 640, "frame 2: tab " + tab + "\n");
+    expect_nothing_clipped(figures.at("layout"));
+    expect_tiled(figures.at("layout"));
+  }
+}
+
+TEST(View, LayoutSplitterDragsResizeTheViewportAndTheRender) {
+  if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed: the viewer needs a display";
+  // At 1280x800 the panels take 30%: 384 on the right, 240 below, each beyond a 6-unit bar.
+  const nlohmann::json figures = clicked_run(
+      1280, 800, "frame 3: drag-splitter right 100\nframe 3: drag-splitter bottom -50\n");
+  const nlohmann::json& layout = figures.at("layout");
+  EXPECT_EQ(layout.at("viewport").at("w"), 1280 - 384 - 6 + 100);
+  EXPECT_EQ(layout.at("viewport").at("h"), 800 - 240 - 6 - 50);
+  EXPECT_EQ(figures.at("view").at("width"), 990);
+  EXPECT_EQ(figures.at("view").at("height"), 504);
+  EXPECT_TRUE(figures.at("view").at("current").get<bool>());
+  expect_nothing_clipped(layout);
+  expect_tiled(layout);
+}
+
+TEST(View, LayoutSplittersDraggedPastTheLimitsLeaveThePanelsTheirMinimums) {
+  if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed: the viewer needs a display";
+  // The heatmap's controls are the controls panel's widest.
+  const nlohmann::json figures = clicked_run(
+      1024, 640, "frame 2: drag-splitter right 1000\nframe 2: drag-splitter bottom 1000\n",
+      "--overlay heat:tests,walk");
+  const nlohmann::json& layout = figures.at("layout");
+  EXPECT_EQ(find_window(layout, "controls")->at("rect").at("w"), 280);
+  EXPECT_EQ(find_window(layout, "statistics and inspector")->at("rect").at("h"), 180);
+  EXPECT_EQ(figures.at("view").at("width"), 1024 - 280 - 6);
+  EXPECT_EQ(figures.at("view").at("height"), 640 - 180 - 6);
+  expect_nothing_clipped(layout);
+  expect_tiled(layout);
+}
+
+TEST(View, LayoutHelpOverlayOpensOnItsKeyInsideTheWindow) {
+  if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed: the viewer needs a display";
+  const nlohmann::json figures = clicked_run(1024, 640, "frame 2: key F1\n");
+  const nlohmann::json& layout = figures.at("layout");
+  const nlohmann::json* help = find_window(layout, "mouse and keyboard");
+  ASSERT_NE(help, nullptr) << layout.dump();
+  EXPECT_GT(help->at("content").at("h").get<double>(), 200.0);  // the list of controls
+  expect_nothing_clipped(layout);
 }
 
 }  // namespace

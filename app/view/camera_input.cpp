@@ -21,7 +21,21 @@ constexpr float kOrbitSpeed = 0.006f;  // radians per pixel dragged
 constexpr float kDollyStep = 0.9f;     // distance kept per wheel notch
 constexpr float kFlySpeed = 0.8f;      // eye-to-target distances per second
 
+// What mouse(), drag(), keys() and fly_keys() below do; keep the two in step.
+constexpr ControlHelp kCameraControls[] = {
+    {"click the image", "inspect that pixel's ray walk (bottom panel, walk tab)"},
+    {"drag", "orbit about the pivot"},
+    {"shift+drag or middle drag", "pan"},
+    {"wheel", "dolly toward or away from the target"},
+    {"double-click", "move the pivot (and target) to the surface there"},
+    {"F", "frame the whole scene"},
+    {"R", "reset to the starting view"},
+    {"W / S, A / D", "fly forward / back, left / right (fly switched on)"},
+};
+
 }  // namespace
+
+std::span<const ControlHelp> camera_controls() { return kCameraControls; }
 
 void CameraInput::update(ViewState& state) {
   mouse(state);
@@ -117,8 +131,10 @@ void CameraInput::controls(ViewState& state) {
     }
   }
   ImGui::Checkbox("fly (W/A/S/D)", &fly_);
-  ImGui::TextDisabled("drag: orbit  shift/middle drag: pan  wheel: dolly");
-  ImGui::TextDisabled("double-click: pivot  click: walk  F: frame  R: reset");
+  // Wrapped (TextDisabled does not wrap): the panel may be dragged narrow.
+  ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+  ImGui::TextWrapped("F1 or ?: every mouse and key control");
+  ImGui::PopStyleColor();
 }
 
 }  // namespace gs::app

@@ -4,6 +4,7 @@
 // panel's camera section (the camera as text, the fly switch).
 #pragma once
 #include <cstdint>
+#include <span>
 
 #include "app/view/text_field.h"
 
@@ -12,6 +13,15 @@ struct ImGuiIO;
 namespace gs::app {
 
 struct ViewState;
+
+// One mouse or keyboard control and what it does, for the help overlay (help_overlay.h).
+struct ControlHelp {
+  const char* input;
+  const char* action;
+};
+
+// Every control CameraInput reads, in the order a newcomer needs them.
+std::span<const ControlHelp> camera_controls();
 
 class CameraInput {
  public:

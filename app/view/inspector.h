@@ -1,6 +1,7 @@
-// The bottom panel's walk tab: the picked walk cell by cell (depth, how it was entered,
-// descents, tests, rejections) and, beside it, the §6 cost model of the inspected cell's
-// parent voxel as the build evaluated it.
+// The bottom panel's walk tab: the picked walk as a timeline of its steps (tests and
+// rejections per cell) over a table of its cells (depth, how each was entered, descents,
+// tests, rejections) and, beside them, the §6 cost model of the inspected cell's parent voxel
+// as the build evaluated it, drawn as a chart (cost_chart.h) with its numbers folded below.
 #pragma once
 
 namespace gs::app {

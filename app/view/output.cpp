@@ -2,7 +2,10 @@
 
 // glad first: it claims the GL header guard before GLFW or ImGui could pull in GL headers.
 #include <glad/gl.h>
+#include <imgui.h>
+#include <imgui_internal.h>  // ImGuiWindow: each window's rectangle, content and scrollbars
 
+#include <algorithm>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -21,6 +24,45 @@ namespace {
 
 nlohmann::json optional_json(const std::optional<uint64_t>& value) {
   return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
+}
+
+nlohmann::json rect_json(float x, float y, float w, float h) {
+  return {{"x", x}, {"y", y}, {"w", w}, {"h", h}};
+}
+
+// Content that needs more than the visible area on an axis without a scrollbar is cut off
+// (a pixel's slack for rounding).
+bool clipped(float content, float visible, bool scrollbar) {
+  return !scrollbar && content > visible + 1.0f;
+}
+
+// A window drawn in the last frame: where it is, how much content it has and how much of it
+// shows. The visible size is the inner rectangle (no title bar or scrollbars) less padding.
+nlohmann::json window_json(const ImGuiWindow& window) {
+  const ImVec2 inner(std::max(window.InnerRect.GetWidth() - 2 * window.WindowPadding.x, 0.0f),
+                     std::max(window.InnerRect.GetHeight() - 2 * window.WindowPadding.y, 0.0f));
+  const ImVec2 content = window.ContentSize;
+  return {{"name", window.Name},
+          {"parent", window.ParentWindow ? window.ParentWindow->Name : ""},
+          {"rect", rect_json(window.Pos.x, window.Pos.y, window.Size.x, window.Size.y)},
+          {"content", {{"w", content.x}, {"h", content.y}}},
+          {"inner", {{"w", inner.x}, {"h", inner.y}}},
+          {"scrollbar", {{"x", window.ScrollbarX}, {"y", window.ScrollbarY}}},
+          {"clipped", clipped(content.x, inner.x, window.ScrollbarX) ||
+                          clipped(content.y, inner.y, window.ScrollbarY)}};
+}
+
+// The viewport and every ImGui window of the last frame (panels, splitter bars, child
+// windows, the help overlay), so that tests can check that nothing is cut off.
+nlohmann::json layout_json(const Viewport& view) {
+  nlohmann::json windows = nlohmann::json::array();
+  for (const ImGuiWindow* window : ImGui::GetCurrentContext()->Windows)
+    if (window->Active && !window->Hidden && !window->IsFallbackWindow)
+      windows.push_back(window_json(*window));
+  const ImVec2 display = ImGui::GetIO().DisplaySize;
+  return {{"display", {{"w", display.x}, {"h", display.y}}},
+          {"viewport", rect_json(view.x, view.y, view.w, view.h)},
+          {"windows", windows}};
 }
 
 }  // namespace
@@ -56,33 +98,34 @@ void write_stats(const ViewState& state, const nlohmann::json& compare, const st
   const ProgressiveFrame& frame = session.frame();
   const StructureStats& s = frame.structure;
   nlohmann::json stats = {{"scene", setup.scene->name},
-                          {"accel", setup.accel},
-                          {"parameters", setup.params.to_json()},
-                          {"triangles", setup.scene->triangle_count()},
-                          {"view",
-                           {{"width", frame.width},
-                            {"height", frame.height},
-                            {"camera", to_string(session.frame_camera())},
-                            {"pass", frame.pass},
-                            {"spp", frame.spp},
-                            {"current", session.frame_current()}}},
-                          {"packets", setup.packets},
-                          {"rays", frame.rays},
-                          {"rays_per_second", frame.rays_per_second},
-                          {"seconds", frame.seconds},
-                          {"full_pass_seconds", session.full_pass_seconds()},
-                          {"packet_rays", frame.counters.packet_rays},
-                          {"packet_fallback_rays", frame.counters.packet_fallback_rays},
-                          {"packet_active_fraction", frame.counters.packet_active_fraction()},
-                          {"build_seconds", s.build_seconds},
-                          {"nodes", optional_json(s.nodes)},
-                          {"voxels_subdivided", optional_json(s.voxels_subdivided)},
-                          {"leaves", optional_json(s.leaves)},
-                          {"traversal_states", optional_json(s.traversal_states)},
-                          {"memory_bytes", s.memory_bytes},
-                          {"voxels_over_budget", s.voxels_over_budget},
-                          {"error", frame.error},
-                          {"status", state.status.text()}};
+                                {"accel", setup.accel},
+                                {"parameters", setup.params.to_json()},
+                                {"triangles", setup.scene->triangle_count()},
+                                {"view",
+                                 {{"width", frame.width},
+                                  {"height", frame.height},
+                                  {"camera", to_string(session.frame_camera())},
+                                  {"pass", frame.pass},
+                                  {"spp", frame.spp},
+                                  {"current", session.frame_current()}}},
+                                {"packets", setup.packets},
+                                {"rays", frame.rays},
+                                {"rays_per_second", frame.rays_per_second},
+                                {"seconds", frame.seconds},
+                                {"full_pass_seconds", session.full_pass_seconds()},
+                                {"packet_rays", frame.counters.packet_rays},
+                                {"packet_fallback_rays", frame.counters.packet_fallback_rays},
+                                {"packet_active_fraction", frame.counters.packet_active_fraction()},
+                                {"build_seconds", s.build_seconds},
+                                {"nodes", optional_json(s.nodes)},
+                                {"voxels_subdivided", optional_json(s.voxels_subdivided)},
+                                {"leaves", optional_json(s.leaves)},
+                                {"traversal_states", optional_json(s.traversal_states)},
+                                {"memory_bytes", s.memory_bytes},
+                                {"voxels_over_budget", s.voxels_over_budget},
+                                {"error", frame.error},
+                                {"status", state.status.text()},
+                                {"layout", layout_json(state.viewport)}};
   stats["compare"] = compare;
   write_json(path, stats);
 }

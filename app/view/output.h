@@ -21,7 +21,10 @@ void write_walk(const PickedWalk& picked, const std::string& path);
 void write_screenshot(const gl::Window& window, const std::string& path);
 
 // The shown frame's figures (render --stats's names where they mean the same), the view it
-// shows, the last status line and, as "compare", the A/B comparison's B (CompareView::stats).
+// shows, the last status line, the layout: the viewport's rectangle and, for every ImGui
+// window of the last frame, its rectangle, content and visible sizes, scrollbars and whether
+// its content is cut off (larger than the visible area on an axis without a scrollbar); and,
+// as "compare", the A/B comparison's B (CompareView::stats).
 void write_stats(const ViewState& state, const nlohmann::json& compare, const std::string& path);
 
 }  // namespace gs::app

@@ -11,6 +11,7 @@
 #include "app/flags.h"
 #include "app/view/compare_view.h"
 #include "app/view/output.h"
+#include "app/view/panels.h"
 #include "app/view/state.h"
 #include "app/view/view.h"
 #include "core/base/error.h"
@@ -114,14 +115,33 @@ ScriptStep parse_action(const std::string& action) {
     if (!degrees || !std::isfinite(*degrees) || std::abs(*degrees) > 360.0)
       throw UsageError("orbit '" + words[1] + "': expected degrees in -360..360");
     step.action = ScriptStep::Action::orbit, step.degrees = float(*degrees);
+  } else if (verb == "drag-splitter" && words.size() == 3) {
+    const std::optional<int> pixels = whole_int(words[2]);
+    if ((words[1] != "right" && words[1] != "bottom") || !pixels ||
+        std::abs(*pixels) > kMaxImageSide)
+      throw UsageError("drag-splitter '" + words[1] + " " + words[2] +
+                       "': expected right or bottom and pixels in -" +
+                       std::to_string(kMaxImageSide) + ".." + std::to_string(kMaxImageSide));
+    step.action = ScriptStep::Action::drag_splitter;
+    step.splitter = words[1] == "right" ? Splitter::right : Splitter::bottom;
+    step.pixels = *pixels;
+  } else if (verb == "key" && words.size() == 2) {
+    if (words[1] != "F1" && words[1] != "?")
+      throw UsageError("key '" + words[1] + "': expected F1 or ? (the help overlay)");
+    step.action = ScriptStep::Action::help_key;
+  } else if (verb == "tab" && words.size() == 2) {
+    if (std::find(std::begin(kBottomTabs), std::end(kBottomTabs), words[1]) ==
+        std::end(kBottomTabs))
+      throw UsageError("tab '" + words[1] + "': expected walk, statistics or states");
+    step.action = ScriptStep::Action::tab, step.name = words[1];
   } else if (verb == "wait" && words.size() == 1) {
     step.action = ScriptStep::Action::wait;
   } else if (verb == "close" && words.size() == 1) {
     step.action = ScriptStep::Action::close;
   } else {
-    throw UsageError(
-        "'" + action +
-        "': expected resize WxH, open SCENE, set NAME VALUE, orbit DEG, wait or close");
+    throw UsageError("'" + action +
+                     "': expected resize WxH, open SCENE, set NAME VALUE, orbit DEG, drag-splitter "
+                     "right|bottom PIXELS, key F1, tab NAME, wait or close");
   }
   return step;
 }

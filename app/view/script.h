@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "app/view/layout.h"
+
 namespace gs {
 struct ProgressiveFrame;
 }
@@ -17,13 +19,15 @@ struct ViewState;
 
 // One line of a --script file: at UI frame `frame` (counted from 1), what a person could do.
 struct ScriptStep {
-  enum class Action { resize, open, set, orbit, wait, close };
+  enum class Action { resize, open, set, orbit, drag_splitter, help_key, tab, wait, close };
   int frame = 1;
   Action action = Action::close;
   std::array<int, 2> size{0, 0};  // resize: the window's new size; 0x0 minimises it
-  std::string name;               // open: SCENE; set: `accel` or a structure flag's name
-  std::string value;              // set: its value, as the command line takes it
-  float degrees = 0.0f;           // orbit: the turn about the pivot
+  std::string name;      // open: SCENE; set: `accel` or a structure flag's name; tab: the tab
+  std::string value;     // set: its value, as the command line takes it
+  float degrees = 0.0f;  // orbit: the turn about the pivot
+  Splitter splitter = Splitter::right;  // drag-splitter: which bar ...
+  int pixels = 0;                       // ... and how far, right or down (window units)
 };
 
 // A --script file's steps, in frame order. One step a line, "frame N: ACTION" with ACTION
@@ -32,8 +36,11 @@ struct ScriptStep {
 // Apply does; `packets` with on or off, as the panel's checkbox; `compare SPEC` with SPEC's
 // words joined by commas, or `compare off`, as the A/B section's buttons; `compare-view`
 // with split, a, b or difference), `orbit DEG` (turns the
-// camera about the pivot by DEG degrees, as a horizontal drag does), `wait` (later steps wait
-// until the current view's full-resolution pass is shown) and `close`; blank lines and
+// camera about the pivot by DEG degrees, as a horizontal drag does), `drag-splitter right|bottom
+// PIXELS` (moves that bar PIXELS units right or down, as a drag does: the viewport grows by
+// as much, within the panels' minimums), `key F1` (or `key ?`: toggles the help overlay), `tab
+// NAME` (shows the bottom panel's tab walk, statistics or states, as a click on it), `wait` (later
+// steps wait until the current view's full-resolution pass is shown) and `close`; blank lines and
 // lines starting with '#' are skipped. `path` names the file in errors: InputError "FILE:LINE:
 // problem".
 std::vector<ScriptStep> parse_script(const std::string& text, const std::string& path);

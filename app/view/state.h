@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "app/view/layout.h"
 #include "app/view/picked_walk.h"
 #include "core/render/overlay.h"
 #include "core/render/progressive.h"
@@ -78,8 +79,6 @@ class Session {
   bool full_pass_current_ = false;
   std::vector<double> full_pass_seconds_;
 };
-
-constexpr float kMinViewport = 16.0f;  // the viewport never shrinks below this
 
 // Where the image sits in the window, in window units (ImGui's), and the framebuffer's
 // pixels per unit.

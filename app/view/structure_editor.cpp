@@ -36,6 +36,38 @@ void choice_control(const ParamSpec& spec, AxisRule& value) {
   value = AxisRule(chosen);
 }
 
+// Where the paper treats what a parameter tunes, for its slider's tooltip; the structures'
+// own limits (depth, leaf size, budget, threads) are not the paper's.
+const char* paper_section(Param param) {
+  switch (param) {
+    case Param::intcost:
+    case Param::repcost:
+    case Param::travcost:
+    case Param::vertcost:
+    case Param::subcost:
+      return "The paper §6.2: a code timing the cost function (§6) weighs.";
+    case Param::max_granularity:
+      return "The paper §6.5: the cost function tries each g up to this.";
+    case Param::axis:
+      return "The paper cuts the axes in turn; choosing by cost is its future work.";
+    case Param::sample_every:
+      return "The paper §6.5: sample rays estimate the rays crossing each voxel.";
+    default:
+      return "Not a parameter of the paper's 1D grid.";
+  }
+}
+
+// The widest label of the section: the widgets leave room for it at their right, so that no
+// label is cut at the panel's edge however narrow the panel is dragged (within its minimum).
+float widest_label(const Structure* structure) {
+  float widest = ImGui::CalcTextSize("structure").x;
+  if (structure)
+    for (const ParamUse& use : structure->params)
+      widest = std::max(
+          widest, ImGui::CalcTextSize(std::string(param_spec(use.param).flag.substr(2)).c_str()).x);
+  return widest;
+}
+
 }  // namespace
 
 StructureEditor::StructureEditor(const std::string& accel, const AccelParams& params)
@@ -44,6 +76,13 @@ StructureEditor::StructureEditor(const std::string& accel, const AccelParams& pa
 }
 
 void StructureEditor::controls(ViewState& state) {
+  const Structure* edited = find_structure(accel_);
+  ImGui::PushItemWidth(-(widest_label(edited) + ImGui::GetStyle().ItemInnerSpacing.x));
+  section(state, edited);
+  ImGui::PopItemWidth();
+}
+
+void StructureEditor::section(ViewState& state, const Structure* edited) {
   if (ImGui::BeginCombo("structure", accel_.c_str())) {
     for (const Structure& structure : structures()) {
       if (!viewable(structure)) continue;
@@ -53,8 +92,8 @@ void StructureEditor::controls(ViewState& state) {
     }
     ImGui::EndCombo();
   }
-  if (const Structure* structure = find_structure(accel_))
-    for (const ParamUse& use : structure->params) {
+  if (edited)
+    for (const ParamUse& use : edited->params) {
       const ParamSpec& spec = param_spec(use.param);
       if (spec.structure_flag) param_control(spec, use.default_text);
     }
@@ -92,8 +131,9 @@ void StructureEditor::param_control(const ParamSpec& spec, const std::string& de
       },
       spec.field);
   if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("%s%s%s", std::string(spec.help).c_str(),
-                      default_text.empty() ? "" : "; default ", default_text.c_str());
+    ImGui::SetTooltip("%s%s%s\n%s", std::string(spec.help).c_str(),
+                      default_text.empty() ? "" : "; default ", default_text.c_str(),
+                      paper_section(spec.param));
 }
 
 void StructureEditor::set(ViewState& state, const std::string& name, const std::string& value) {

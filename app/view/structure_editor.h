@@ -9,6 +9,10 @@
 #include "app/view/text_field.h"
 #include "core/accel/accelerator.h"
 
+namespace gs {
+struct Structure;
+}
+
 namespace gs::app {
 
 struct ViewState;
@@ -22,6 +26,8 @@ class StructureEditor {
   void set(ViewState& state, const std::string& name, const std::string& value);
 
  private:
+  // The section's widgets for the structure being edited (null: none is chosen).
+  void section(ViewState& state, const Structure* edited);
   // The widget of one parameter the edited structure reads.
   void param_control(const ParamSpec& spec, const std::string& default_text);
   // The edited structure and parameters replace the current ones: a new structure.

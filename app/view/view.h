@@ -5,9 +5,10 @@
 // --script, --stats) let tests and CI drive it without a person.
 //
 // The viewer's parts live beside this header: viewer.h (the frame loop), state.h (what the
-// parts share), script.h, camera_input.h, overlay_cache.h, viewport.h, panels.h and the
-// sections they show (structure_editor.h, overlay_panel.h, scene_opener.h, inspector.h),
-// output.h.
+// parts share), script.h, camera_input.h, overlay_cache.h, layout.h and splitters.h (where
+// the viewport and panels go), viewport.h, panels.h and the sections they show
+// (structure_editor.h, overlay_panel.h, scene_opener.h, inspector.h with cost_chart.h,
+// states_table.h), help_overlay.h, output.h.
 #pragma once
 #include <array>
 #include <optional>

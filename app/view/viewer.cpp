@@ -90,6 +90,15 @@ void Viewer::run_step(const ScriptStep& step) {
       state_.session.move_camera(
           orbit(state_.session.setup().camera, state_.pivot, glm::radians(step.degrees), 0.0f));
       break;
+    case ScriptStep::Action::drag_splitter:
+      splitters_.ask_move(step.splitter, float(step.pixels));
+      break;
+    case ScriptStep::Action::help_key:
+      help_.toggle();
+      break;
+    case ScriptStep::Action::tab:
+      panels_.select_tab(step.name);
+      break;
     case ScriptStep::Action::wait:  // Script::next_due_step held it until it was due
       break;
     case ScriptStep::Action::close:
@@ -118,13 +127,17 @@ void Viewer::build_ui() {
   compare_.update(state_, overlays_.heat());
   viewport_.draw(state_, overlays_);
   compare_.draw(state_, overlays_.heat());
-  panels_.draw(state_);
+  panels_.draw(state_, layout_);
+  splitters_.draw(layout_);
+  help_.draw();
 }
 
-// Places the viewport for the window's current size; a new size restarts the renderer at
-// that size, from the starting camera the first time.
+// Places the viewport and panels for the window's current size and the splitters; a new
+// viewport size restarts the renderer at that size, from the starting camera the first time.
 void Viewer::lay_out() {
-  state_.viewport = viewport_.place(ImGui::GetIO());
+  const ImGuiIO& io = ImGui::GetIO();
+  layout_ = splitters_.lay_out(io.DisplaySize);
+  state_.viewport = viewport_.place(io, layout_.viewport);
   const int width = int(state_.viewport.w * state_.viewport.scale);
   const int height = int(state_.viewport.h * state_.viewport.scale);
   const ViewSetup& setup = state_.session.setup();

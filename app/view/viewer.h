@@ -9,10 +9,13 @@
 #include "app/gl/window.h"
 #include "app/view/camera_input.h"
 #include "app/view/compare_view.h"
+#include "app/view/help_overlay.h"
+#include "app/view/layout.h"
 #include "app/view/overlay_cache.h"
 #include "app/view/panels.h"
 #include "app/view/scene_opener.h"
 #include "app/view/script.h"
+#include "app/view/splitters.h"
 #include "app/view/state.h"
 #include "app/view/structure_editor.h"
 #include "app/view/view.h"
@@ -52,6 +55,9 @@ class Viewer {
   OverlayCache overlays_;
   StructureEditor structure_;
   Panels panels_;
+  Splitters splitters_;
+  WindowLayout layout_;  // this frame's
+  HelpOverlay help_;
 };
 
 }  // namespace gs::app

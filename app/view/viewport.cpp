@@ -15,9 +15,6 @@ namespace gs::app {
 
 namespace {
 
-// Panels take a share of the window within these bounds; the viewport gets the rest.
-constexpr float kPanelShare = 0.3f, kPanelMin = 300.0f, kPanelMax = 420.0f;  // on the right
-constexpr float kBottomShare = 0.3f, kBottomMin = 180.0f, kBottomMax = 300.0f;
 // The viewport never grows beyond this many pixels a side, whatever the window: the renderer
 // and the UI hold about 90 bytes per pixel in flight (images, per-pixel records, sums), 1.5 GB
 // here.
@@ -65,14 +62,13 @@ ViewportImage::ViewportImage() {
   max_side_ = std::min({kMaxViewportSide, int(texture), int(renderbuffer)});
 }
 
-Viewport ViewportImage::place(const ImGuiIO& io) const {
+Viewport ViewportImage::place(const ImGuiIO& io, const Rect& area) const {
   Viewport view;
   view.scale = std::max(io.DisplayFramebufferScale.x, 1.0f);
-  const float panel = std::clamp(io.DisplaySize.x * kPanelShare, kPanelMin, kPanelMax);
-  const float bottom = std::clamp(io.DisplaySize.y * kBottomShare, kBottomMin, kBottomMax);
   const float largest = float(max_side_) / view.scale;
-  view.w = std::clamp(io.DisplaySize.x - panel, kMinViewport, largest);
-  view.h = std::clamp(io.DisplaySize.y - bottom, kMinViewport, largest);
+  view.x = area.x, view.y = area.y;
+  view.w = std::clamp(area.w, kMinViewport, largest);
+  view.h = std::clamp(area.h, kMinViewport, largest);
   return view;
 }
 

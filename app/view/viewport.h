@@ -5,6 +5,7 @@
 #include <imgui.h>
 
 #include "app/gl/frame.h"
+#include "app/view/layout.h"
 #include "app/view/state.h"
 
 namespace gs::app {
@@ -35,9 +36,8 @@ class ViewportImage {
  public:
   ViewportImage();  // needs the window's GL context
 
-  // The viewport for the window's current size (no docking in ImGui 1.86): the panels take a
-  // share of the window within bounds, the viewport the rest, within what GL can hold.
-  Viewport place(const ImGuiIO& io) const;
+  // The viewport in the layout's `area` (layout.h), within what GL can hold.
+  Viewport place(const ImGuiIO& io, const Rect& area) const;
   // The shown frame with the overlays chosen, at the viewport's place.
   void draw(const ViewState& state, OverlayCache& overlays);
 
