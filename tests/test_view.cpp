@@ -555,4 +555,14 @@ TEST(View, LayoutHelpOverlayOpensOnItsKeyInsideTheWindow) {
   expect_nothing_clipped(layout);
 }
 
+TEST(View, LayoutWithAComparisonFitsTheSmallestWindow) {
+  if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed: the viewer needs a display";
+  // The A/B section (spec, views, the totals table) in the narrowest controls panel.
+  const nlohmann::json figures =
+      clicked_run(1024, 640, "", "--compare accel=bvh --overlay heat:tests --packets off");
+  ASSERT_FALSE(figures.at("compare").is_null()) << figures.dump();
+  EXPECT_TRUE(figures.at("compare").at("shown").get<bool>());
+  expect_nothing_clipped(figures.at("layout"));
+}
+
 }  // namespace

@@ -207,15 +207,28 @@ std::string CompareView::b_label(const ViewState& state) const {
 }
 
 void CompareView::controls(ViewState& state, HeatMap& heat_a) {
+  // Fields leave room for their labels: the panel may be as narrow as its minimum.
+  ImGui::PushItemWidth(
+      -(ImGui::CalcTextSize("B changes").x + ImGui::GetStyle().ItemInnerSpacing.x));
+  const bool shown = spec_controls(state);
+  ImGui::PopItemWidth();
+  if (shown) totals_controls(state, heat_a);
+}
+
+// The spec, start and stop, and how the viewport shows B; false once no comparison runs.
+bool CompareView::spec_controls(ViewState& state) {
   spec_text_.input("B changes");
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip(
         "NAME=VALUE words, commas or blanks between: accel=NAME, packets=on|off, or a "
         "structure flag without its dashes (max-granularity=8, vertcost=4)");
   if (ImGui::Button(active() ? "restart B" : "compare")) set(state, spec_text_.c_str());
-  if (!active()) return;
+  if (!active()) return false;
   ImGui::SameLine();
-  if (ImGui::Button("stop")) return set(state, "off");
+  if (ImGui::Button("stop")) {
+    set(state, "off");
+    return false;
+  }
   int mode = int(mode_);
   for (int i = 0; i < IM_ARRAYSIZE(kModeNames); ++i) {
     if (i) ImGui::SameLine();
@@ -223,7 +236,14 @@ void CompareView::controls(ViewState& state, HeatMap& heat_a) {
   }
   mode_ = CompareMode(mode);
   if (mode_ == CompareMode::split) ImGui::SliderFloat("divider", &divider_, 0.05f, 0.95f, "%.2f");
-  ImGui::TextDisabled("key B: A or B alone; B - A needs a heatmap");
+  ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+  ImGui::TextWrapped("key B: A or B alone; B - A needs a heatmap");
+  ImGui::PopStyleColor();
+  return true;
+}
+
+// B's progress, the totals side by side and the heatmaps' shared scale.
+void CompareView::totals_controls(const ViewState& state, const HeatMap& heat_a) {
   const ProgressiveFrame& b = session_->frame();
   ImGui::TextWrapped("%s: pass %d, %d spp%s", label_b_.c_str(), b.pass, b.spp,
                      b_matches_a(state) ? "" : " (rendering this view)");

@@ -57,6 +57,8 @@ class CompareView {
   void draw_b(const ViewState& state, const std::vector<uint8_t>& rgba);
   std::string b_label(const ViewState& state) const;
   void stop(HeatMap& heat_a);
+  bool spec_controls(ViewState& state);
+  void totals_controls(const ViewState& state, const HeatMap& heat_a);
 
   std::function<void()> frame_ready_;
   std::unique_ptr<Session> session_;  // B

@@ -1,7 +1,7 @@
 // The two panels around the viewport (no docking in ImGui 1.86), where the layout (layout.h)
 // puts them. On the right, the controls: the structure, the overlays and heatmap, the A/B
-// comparison, the camera, the scene, and the status line. Below the viewport, three tabs: the walk inspector, the
-// statistics and the states table (sortable by any column).
+// comparison, the camera, the scene, and the status line. Below the viewport, three tabs: the walk
+// inspector, the statistics and the states table (sortable by any column).
 #pragma once
 #include <string>
 
