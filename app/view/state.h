@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "app/view/build_progress.h"
 #include "app/view/picked_walk.h"
 #include "core/render/overlay.h"
 #include "core/render/progressive.h"
@@ -57,6 +58,7 @@ class Session {
   uint64_t camera_changes() const { return camera_changes_; }
 
   bool structure_ready() const { return renderer_.structure_ready(); }
+  BuildStatus build_status() const { return renderer_.build_status(); }
   std::optional<Walk> record_walk(int x, int y) { return renderer_.record_walk(x, y); }
   void with_structure_paused(const std::function<void(const Accelerator&)>& visit) {
     renderer_.with_structure_paused(visit);
@@ -126,6 +128,7 @@ struct ViewState {
   bool colour_by_axis = false;  // cells coloured by cut axis instead of depth
   bool overlays_stale = true;   // the overlay cache reads the structure again at once
   StatusLine status;
+  BuildBarRecord build_bar;  // what the build progress bar has shown
 };
 
 }  // namespace gs::app

@@ -9,6 +9,7 @@
 #include <glm/trigonometric.hpp>
 #include <utility>
 
+#include "app/view/build_progress.h"
 #include "app/view/output.h"
 #include "core/render/camera_control.h"
 
@@ -109,6 +110,7 @@ void Viewer::build_ui() {
   overlays_.refresh(state_);
   viewport_.draw(state_, overlays_);
   panels_.draw(state_);
+  draw_build_progress(state_);
 }
 
 // Places the viewport for the window's current size; a new size restarts the renderer at
