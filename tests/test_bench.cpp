@@ -156,7 +156,9 @@ TEST_F(BenchRunTest, ProgressCountsEveryStepAndEndsAtTheTotal) {
     const BenchStep& step = (*steps_)[i];
     EXPECT_EQ(step.total, sphere_steps + dragon_steps);
     EXPECT_EQ(step.done, i < size_t(sphere_steps) ? int(i) + 1 : step.total) << i;
-    if (i > 0) EXPECT_GE(step.elapsed, (*steps_)[i - 1].elapsed);
+    if (i > 0) {
+      EXPECT_GE(step.elapsed, (*steps_)[i - 1].elapsed);
+    }
   }
   EXPECT_EQ(steps_->back().scene, "dragon");
   EXPECT_NE(steps_->back().line.find("skipped"), std::string::npos);

@@ -492,6 +492,7 @@ TEST(BuildProgress, TheRendererReportsTheBuildOrThatTheStructureCannot) {
   expect_figures_match(*grid_frame.build, separate);
   EXPECT_EQ(grid_frame.build->sample_rays, uint64_t(kW / 8 * (kH / 8)));
   const BuildStatus grid_status = renderer.build_status();
+  EXPECT_EQ(grid_status.structure, "grid1d");
   EXPECT_FALSE(grid_status.building);
   EXPECT_GT(grid_status.seconds, 0.0);
   ASSERT_TRUE(grid_status.figures.has_value());
@@ -506,6 +507,7 @@ TEST(BuildProgress, TheRendererReportsTheBuildOrThatTheStructureCannot) {
   const ProgressiveFrame bvh_frame = frame_at(renderer, 2, 2);
   EXPECT_FALSE(bvh_frame.build.has_value());
   const BuildStatus bvh_status = renderer.build_status();
+  EXPECT_EQ(bvh_status.structure, "bvh");
   EXPECT_FALSE(bvh_status.building);
   EXPECT_FALSE(bvh_status.figures.has_value());
 }

@@ -351,6 +351,7 @@ TEST(View, ALongBuildShowsTheProgressBarAndItsFiguresAreTheStructures) {
   const nlohmann::json& progress = figures.at("build_progress");
   const nlohmann::json& build = progress.at("build");
   const nlohmann::json& ended = build.at("figures");
+  EXPECT_EQ(build.at("structure"), "grid1d");
   EXPECT_EQ(build.at("building"), false);  // ended with the first full-resolution pass
   // The sampling pass traces one ray per 8x8 block of the view.
   const int width = figures.at("view").at("width"), height = figures.at("view").at("height");

@@ -45,7 +45,9 @@ void sweeping_bar(double seconds) {
 // A count for %llu (uint64_t is unsigned long here, which %llu does not take).
 unsigned long long n(uint64_t count) { return count; }
 
-void figures_text(const BuildFigures& f) {
+void figures_text(const BuildFigures& f, bool sampling) {
+  if (f.sample_rays > 0 && !sampling)
+    ImGui::TextUnformatted("first image: voxels built as its rays reach them");
   if (f.sample_rays > 0) {
     ImGui::Text("sampling pass: %llu of %llu rays", n(f.sample_rays_traced), n(f.sample_rays));
     ImGui::Text("its scout: %llu voxels built", n(f.scout_voxels_built));
@@ -62,20 +64,19 @@ void draw_bar(const ViewState& state, const BuildStatus& status) {
   // Within the viewport: the panels beside it would hide the rest.
   ImGui::SetNextWindowSizeConstraints(ImVec2(0.0f, 0.0f), ImVec2(view.w, view.h));
   ImGui::Begin("build progress", nullptr, kFlags);
-  ImGui::Text("building %s: %.1f s", state.session.setup().accel.c_str(), status.seconds);
+  ImGui::Text("building %s: %.1f s", status.structure.c_str(), status.seconds);
   // The sampling pass is the one part whose total is known; after it, the first passes'
   // rays build the structure as they reach its voxels, to an end nobody can tell.
-  const std::optional<double> fraction =
-      status.figures ? status.figures->sampling_fraction() : std::nullopt;
-  if (fraction && *fraction < 1.0)
-    ImGui::ProgressBar(float(*fraction), ImVec2(kBarWidth, 0.0f));
+  const BuildFigures* figures = status.figures ? &*status.figures : nullptr;
+  const bool sampling = figures && figures->sample_rays_traced < figures->sample_rays;
+  if (sampling)
+    ImGui::ProgressBar(float(figures->sampling_fraction().value_or(0.0)), ImVec2(kBarWidth, 0.0f));
   else
     sweeping_bar(status.seconds);
-  if (!status.figures)
+  if (figures)
+    figures_text(*figures, sampling);
+  else
     ImGui::TextUnformatted("this structure does not report its progress");
-  else if (fraction && *fraction >= 1.0)
-    ImGui::TextUnformatted("first image: voxels built as its rays reach them");
-  if (status.figures) figures_text(*status.figures);
   ImGui::End();
 }
 

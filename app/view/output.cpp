@@ -36,7 +36,8 @@ nlohmann::json figures_json(const std::optional<BuildFigures>& figures) {
 }
 
 nlohmann::json status_json(const BuildStatus& status) {
-  return {{"building", status.building},
+  return {{"structure", status.structure},
+          {"building", status.building},
           {"seconds", status.seconds},
           {"figures", figures_json(status.figures)}};
 }

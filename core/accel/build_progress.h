@@ -43,7 +43,7 @@ struct BuildProgress {
 };
 
 // Adds `amount` to a progress counter (relaxed: see BuildProgress).
-inline void count(std::atomic<uint64_t>& counter, uint64_t amount = 1) {
+inline void add_progress(std::atomic<uint64_t>& counter, uint64_t amount = 1) {
   counter.fetch_add(amount, std::memory_order_relaxed);
 }
 

@@ -449,6 +449,7 @@ BuildStatus ProgressiveRenderer::build_status() const {
     if (!s.last_build) return status;
     scene = s.last_build_scene;
     accel = s.last_build;
+    status.structure = accel->name();
     status.building = !s.build_seconds;
     status.seconds = s.build_seconds ? *s.build_seconds : seconds_since(s.build_started);
     if (!status.building) {

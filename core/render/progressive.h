@@ -61,6 +61,7 @@ struct ProgressiveFrame {
 // reports its progress (grid1d, which builds lazily), the first passes too, whose rays build
 // it: its build ends when the first full-resolution pass is published.
 struct BuildStatus {
+  std::string structure;  // its name (the setup may already ask for another)
   bool building = false;  // not yet ended
   double seconds = 0.0;   // since it began; its whole length once it has ended
   // As far as the structure can tell (null: it cannot; Accelerator::build_progress): live

@@ -230,7 +230,7 @@ uint32_t Grid1D::examine(uint32_t id, Context& context) const {
   slot.store(ref, std::memory_order_release);
   voxel.status.store(split ? kSplit : kLeaf, std::memory_order_release);
   ++context.counters.voxels_built;
-  count(progress_.voxels_built);
+  add_progress(progress_.voxels_built);
   context.counters.lazy_build_seconds += seconds_since(start);
   return ref;
 }
@@ -491,8 +491,8 @@ uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
     child_region.sample_begin = uint32_t(sample_base + cut.sample_offsets[i]);
     child_region.sample_count = cut.sample_offsets[i + 1] - cut.sample_offsets[i];
   }
-  count(progress_.voxels_subdivided);
-  count(progress_.triangles_sorted, voxels_[id].tri_count);
+  add_progress(progress_.voxels_subdivided);
+  add_progress(progress_.triangles_sorted, voxels_[id].tri_count);
   raise_to(deepest_, region.depth + 1);
   return child_ref::make(child_ref::kNode, uint32_t(node));
 }
