@@ -51,9 +51,9 @@ struct ProgressiveFrame {
   double seconds = 0.0;          // from the restart to this pass's end (build included)
   TraceCounters counters;        // of the last finished pass (packet figures among them)
   StructureStats structure;      // of the structure the frame was rendered with
+  std::string error;             // a failed build or render: what went wrong, one line
   // Its build's figures taken with `structure` (null: the structure reports none).
   std::optional<BuildFigures> build;
-  std::string error;  // a failed build or render: what went wrong, one line
 };
 
 // The newest structure build as a progress display shows it: what the first image waits
