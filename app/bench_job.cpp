@@ -1,5 +1,7 @@
 #include "app/bench_job.h"
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <filesystem>
 
@@ -31,13 +33,20 @@ void run_bench_job(const BenchJob& job) {
     fail_input(job.out_dir, "cannot create the output directory");
   BenchOptions options = job.options;
   options.image_dir = job.out_dir;
-  options.progress = [](const std::string& line) {
-    std::fprintf(stderr, "bench: %s\n", line.c_str());
-  };
+  BenchProgressPrinter printer(isatty(fileno(stderr)) != 0, job.verbose, [](std::string_view text) {
+    std::fwrite(text.data(), 1, text.size(), stderr);
+    std::fflush(stderr);
+  });
+  options.progress = [&printer](const BenchStep& step) { printer.step(step); };
   const std::string dir = job.out_dir + "/";
-  const nlohmann::json records =
-      job.from_path.empty() ? run_bench(options) : read_results(job.from_path);
-  if (job.from_path.empty()) write_json(dir + "results.json", records);
+  nlohmann::json records;
+  if (job.from_path.empty()) {
+    records = run_bench(options);
+    printer.finish();
+    write_json(dir + "results.json", records);
+  } else {
+    records = read_results(job.from_path);
+  }
   const std::vector<std::string> plots = write_bench_plots(records, job.out_dir);
   const std::string report = bench_report_markdown(records, plots);
   write_file(dir + "report.md", std::vector<char>(report.begin(), report.end()));

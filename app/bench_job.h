@@ -12,6 +12,8 @@ struct BenchJob {
   std::string out_dir = "bench-out";
   // With a path: no measuring; report.md and the plots are made again from that results.json.
   std::string from_path;
+  // Every step's line instead of the one progress line (bench/progress.h).
+  bool verbose = false;
 };
 
 // Throws UsageError for bad options before measuring, InputError naming the directory or file

@@ -348,6 +348,10 @@ Parser bench_parser() {
                   job->from_path),
       switch_flag("--quick", "built-in scenes only, smaller images, fewer repetitions",
                   options.quick),
+      switch_flag("--verbose",
+                  "a line per step (each measurement's figures) instead of one progress line "
+                  "with the time left",
+                  job->verbose),
       seed_flag(options.seed),
       threads_flag(options.threads),
   };

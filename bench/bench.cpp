@@ -449,38 +449,97 @@ class BenchRun {
     if (accels_.empty())
       for (const std::string& name : bench_structures())
         if (find_structure(name)->available()) accels_.push_back(name);
+    total_steps_ = planned_steps();
   }
 
   json run() {
     calibrate_constants();
     const std::string assets =
         options_.assets_dir.empty() ? find_assets_dir() : options_.assets_dir;
-    for (const std::string& name :
-         options_.scenes.empty() ? bench_suite(options_.quick) : options_.scenes) {
+    for (const std::string& name : scene_names()) {
       std::string skipped;
       const std::optional<BenchScene> bench = load_bench_scene(name, assets, skipped);
-      if (bench)
+      if (bench) {
         run_scene(*bench);
-      else
-        add({{"scene", name}, {"accel", nullptr}, {"workload", "skipped"}, {"reason", skipped}});
+      } else {
+        records_.push_back(
+            {{"scene", name}, {"accel", nullptr}, {"workload", "skipped"}, {"reason", skipped}});
+        step_done(name, "", "skipped " + skipped, scene_steps(name));
+      }
     }
     return records_;
   }
 
  private:
+  // A measurement's record, reported as a step.
   void add(json record) {
-    if (options_.progress && record["workload"] != "skipped" && record.contains("rays_per_second"))
-      options_.progress(format_progress(record, elapsed()));
-    else if (options_.progress)
-      options_.progress("skipped " + record.value("reason", std::string()));
+    step_done(record["scene"].get<std::string>(), record["accel"].get<std::string>(),
+              format_progress(record, elapsed()));
     records_.push_back(std::move(record));
+  }
+
+  // Counts `steps` more done (a skipped scene's all at once) and reports the newest.
+  void step_done(const std::string& scene, const std::string& accel, const std::string& line,
+                 int steps = 1) {
+    done_steps_ += steps;
+    if (options_.progress)
+      options_.progress({done_steps_, total_steps_, elapsed(), scene, accel, line});
+  }
+
+  // "[  12.3 s] text", as format_progress starts its lines.
+  std::string stamped(const std::string& text) const {
+    char stamp[32];
+    std::snprintf(stamp, sizeof stamp, "[%6.1f s] ", elapsed());
+    return stamp + text;
+  }
+
+  std::vector<std::string> scene_names() const {
+    return options_.scenes.empty() ? bench_suite(options_.quick) : options_.scenes;
+  }
+
+  // The steps run() reports, planned before it begins (the progress line's total and ETA):
+  // the calibration, then per scene scene_steps.
+  int planned_steps() const {
+    int steps = calibrates() ? 1 : 0;
+    for (const std::string& name : scene_names()) steps += scene_steps(name);
+    return steps;
+  }
+
+  // Per workload its reference, then per thread count zero and each structure (again by
+  // packets where it walks them); grid1d calibrated; each sweep point and its best (or that
+  // there is none); a convergence curve per structure where run_scene makes them.
+  int scene_steps(const std::string& name) const {
+    int per_thread_count = 1;
+    for (const std::string& accel : accels_)
+      per_thread_count += find_structure(accel)->traces_packets ? 2 : 1;
+    int steps = 2 * (1 + int(thread_counts().size()) * per_thread_count);
+    if (calibrates()) ++steps;
+    for (const std::string& accel : accels_) {
+      for (const SweepAxis& axis : find_structure(accel)->sweep) steps += int(axis.values.size());
+      ++steps;
+    }
+    const std::vector<std::string> suite = bench_suite(false);
+    const bool users_scene = std::find(suite.begin(), suite.end(), name) == suite.end();
+    if (converges(name, users_scene)) steps += int(accels_.size());
+    return steps;
+  }
+
+  // The progressive renderer's convergence is followed on the protocol's scenes and on every
+  // scene a user names.
+  bool converges(const std::string& label, bool users_scene) const {
+    const auto& wanted = protocol_.convergence_scenes;
+    return users_scene || std::find(wanted.begin(), wanted.end(), label) != wanted.end();
+  }
+
+  bool calibrates() const {
+    return std::find(accels_.begin(), accels_.end(), "grid1d") != accels_.end();
   }
 
   double elapsed() const { return seconds_since(start_); }
 
   // The paper's section 6.2 constants measured on this machine (bench/calibrate.h).
   void calibrate_constants() {
-    if (std::find(accels_.begin(), accels_.end(), "grid1d") == accels_.end()) return;
+    if (!calibrates()) return;
     CalibrateOptions calibrate_options;
     calibrate_options.budget_seconds =
         options_.quick ? CalibrateOptions::kQuickBudget : CalibrateOptions::kDefaultBudget;
@@ -494,6 +553,7 @@ class BenchRun {
                         {"defaults", cost_constants(AccelParams{})},
                         {"machine", run_.machine},
                         {"commit", run_.commit}});
+    step_done("", "grid1d", stamped("calibration of the section 6.2 constants"));
   }
 
   Config config(const BenchScene& bench, const std::string& accel, int side, int threads,
@@ -523,6 +583,8 @@ class BenchRun {
     for (const auto& [workload, bounces] :
          {std::pair<const char*, int>{"primary_shadow", 0}, {"diffuse", 1}}) {
       Reference reference = make_reference(run_, config(bench, "", protocol_.side, 1, bounces));
+      step_done(bench.label, reference.accel,
+                stamped(bench.label + " " + reference.accel + " reference " + workload));
       for (const int threads : thread_counts())
         run_workload(bench, reference, workload, bounces, threads);
       if (bounces == 0) {
@@ -535,9 +597,7 @@ class BenchRun {
     if (calibration_)
       run_full(bench, "grid1d", with_calibration(AccelParams{}, *calibration_), "calibrated");
     run_sweeps(bench);
-    const auto& wanted = protocol_.convergence_scenes;
-    if (std::find(wanted.begin(), wanted.end(), bench.label) != wanted.end() || bench.role.empty())
-      run_convergence(bench);
+    if (converges(bench.label, bench.role.empty())) run_convergence(bench);
   }
 
   // Every structure and the zero-overhead replay of the reference, at the protocol's size.
@@ -594,7 +654,12 @@ class BenchRun {
             best = {seconds, point.params};
           add(std::move(m.record));
         }
-      if (best) run_full(bench, accel, best->second, "best");
+      if (best)
+        run_full(bench, accel, best->second, "best");
+      else
+        step_done(bench.label, accel,
+                  stamped(bench.label + " " + accel +
+                          " best: none, every sweep point over the time cap"));
     }
   }
 
@@ -608,10 +673,9 @@ class BenchRun {
       record["reference"] = "bvh";
       record["points"] = convergence.points(accel);
       records_.push_back(std::move(record));
-      if (options_.progress)
-        options_.progress(
-            "[" + std::to_string(int(elapsed())) + " s] " + bench.label + " " + accel +
-            " convergence: " + std::to_string(records_.back()["points"].size()) + " passes");
+      step_done(bench.label, accel,
+                stamped(bench.label + " " + accel + " convergence: " +
+                        std::to_string(records_.back()["points"].size()) + " passes"));
     }
   }
 
@@ -620,6 +684,7 @@ class BenchRun {
   RunInfo run_;
   std::vector<std::string> accels_;
   std::optional<Calibration> calibration_;
+  int total_steps_ = 0, done_steps_ = 0;
   Reference primary_reference_;
   double zero_seconds_ = 0.0;
   json records_ = json::array();

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/progress.h"
 #include "core/trace/trace_job.h"
 
 namespace gs {
@@ -33,8 +34,9 @@ struct BenchOptions {
   // When set, each scene's reference image (primary and shadow rays) is written there as
   // scene-LABEL.png, so that a reader sees what was measured.
   std::string image_dir;
-  // Called with one line per finished measurement (the progress line).
-  std::function<void(const std::string&)> progress;
+  // Called after each step: every measurement, reference, calibration and convergence curve
+  // (a skipped scene's planned steps are reported as one).
+  std::function<void(const BenchStep&)> progress;
 };
 
 // The structures the bench measures (the paper's and the modern ones of the registry), in

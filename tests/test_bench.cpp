@@ -2,9 +2,11 @@
 // and those figures agree with answers computed independently here.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "bench/bench.h"
+#include "bench/progress.h"
 #include "bench/scenes.h"
 #include "core/base/error.h"
 #include "core/render/render.h"
@@ -33,6 +35,64 @@ TEST(BenchOptions, UnknownStructureIsAUsageError) {
   EXPECT_THROW(check_bench_options(options), UsageError);
 }
 
+TEST(BenchProgress, EtaIsTheStepsLeftAtThePaceOfThoseDone) {
+  EXPECT_EQ(eta_seconds(10.0, 5, 10), 10.0);  // half done in 10 s: 10 s left
+  EXPECT_EQ(eta_seconds(30.0, 3, 4), 10.0);
+  EXPECT_EQ(eta_seconds(12.0, 4, 4), 0.0);
+  EXPECT_FALSE(eta_seconds(3.0, 0, 4).has_value());  // no pace yet
+}
+
+TEST(BenchProgress, LineSaysStepsStepElapsedAndTimeLeft) {
+  EXPECT_EQ(progress_line({50, 100, 10.0, "lumpy", "bvh", ""}),
+            "50/100 steps (50%) | lumpy bvh | 10s elapsed | ETA 10s");
+  EXPECT_EQ(progress_line({1, 4, 125.0, "", "grid1d", ""}),
+            "1/4 steps (25%) | grid1d | 2m05s elapsed | ETA 6m15s");
+}
+
+// What a printer writes for `steps` steps, `seconds_per_step` apart.
+std::string printed(bool terminal, bool verbose, int steps, double seconds_per_step) {
+  std::string out;
+  BenchProgressPrinter printer(terminal, verbose, [&out](std::string_view text) { out += text; });
+  for (int i = 1; i <= steps; ++i)
+    printer.step({i, steps, i * seconds_per_step, "lumpy", "bvh", "step " + std::to_string(i)});
+  printer.finish();
+  return out;
+}
+
+size_t count_of(const std::string& text, const std::string& part) {
+  size_t count = 0;
+  for (size_t at = text.find(part); at != std::string::npos; at = text.find(part, at + 1)) ++count;
+  return count;
+}
+
+TEST(BenchProgress, ALogGetsALinePerTenthAndVerboseALinePerStep) {
+  // 100 steps in 10 s: a line at each tenth, then the summary; no step's own line.
+  const std::string log = printed(false, false, 100, 0.1);
+  EXPECT_EQ(count_of(log, "\n"), 11u) << log;
+  EXPECT_EQ(count_of(log, "ETA"), 10u) << log;
+  EXPECT_EQ(count_of(log, "step "), 0u) << log;
+  EXPECT_NE(log.find("bench: 100/100 steps (100%)"), std::string::npos) << log;
+  EXPECT_NE(log.find("bench: 100 of 100 steps in 10s\n"), std::string::npos) << log;
+  // Slow steps: a line at least every kLogInterval seconds, though no new tenth is passed.
+  EXPECT_EQ(count_of(printed(false, false, 100, BenchProgressPrinter::kLogInterval), "ETA"), 100u);
+  // --verbose: every step's line and the summary.
+  const std::string verbose = printed(false, true, 100, 0.1);
+  EXPECT_EQ(count_of(verbose, "\n"), 101u);
+  for (int i = 1; i <= 100; ++i)
+    EXPECT_NE(verbose.find("bench: step " + std::to_string(i) + "\n"), std::string::npos) << i;
+  EXPECT_EQ(count_of(verbose, "ETA"), 0u);
+}
+
+TEST(BenchProgress, ATerminalGetsOneLineRewrittenInPlace) {
+  const std::string shown = printed(true, false, 20, 1.0);
+  EXPECT_EQ(count_of(shown, "\r"), 20u);
+  EXPECT_EQ(count_of(shown, "\n"), 2u);  // the progress line's end, then the summary
+  EXPECT_EQ(count_of(shown, "step "), 0u);
+  EXPECT_NE(shown.find("\rbench: 20/20 steps (100%) | lumpy bvh | 20s elapsed | ETA 0s"),
+            std::string::npos)
+      << shown;
+}
+
 TEST(BenchScenes, SuiteSceneWithoutSharedMeshesIsSkippedWithTheReason) {
   std::string why;
   EXPECT_FALSE(load_bench_scene("dragon", "/nonexistent-shared", why));
@@ -56,10 +116,13 @@ class BenchRunTest : public ::testing::Test {
     options.quick = true;
     options.threads = 2;
     options.assets_dir = "/nonexistent-shared";
+    steps_ = new std::vector<BenchStep>;
+    options.progress = [](const BenchStep& step) { steps_->push_back(step); };
     records_ = new json(run_bench(options));
   }
   static void TearDownTestSuite() {
     delete records_;
+    delete steps_;
     delete path_;
   }
 
@@ -72,9 +135,34 @@ class BenchRunTest : public ::testing::Test {
 
   static std::string* path_;
   static json* records_;
+  static std::vector<BenchStep>* steps_;
 };
 std::string* BenchRunTest::path_ = nullptr;
 json* BenchRunTest::records_ = nullptr;
+std::vector<BenchStep>* BenchRunTest::steps_ = nullptr;
+
+TEST_F(BenchRunTest, ProgressCountsEveryStepAndEndsAtTheTotal) {
+  // The sphere's steps: each of its records (measurements and convergence curves) and the
+  // reference of each workload. Dragon, skipped, would have had as many but for the
+  // convergence curves (the quick protocol follows them on lumpy and on users' scenes).
+  const size_t sphere_records = std::count_if(records_->begin(), records_->end(),
+                                              [](const json& r) { return r["scene"] == *path_; });
+  const size_t curves = select("convergence").size();
+  ASSERT_EQ(curves, 2u);
+  const int sphere_steps = int(sphere_records) + 2;
+  const int dragon_steps = sphere_steps - int(curves);
+  ASSERT_EQ(steps_->size(), size_t(sphere_steps) + 1);  // dragon's steps reported at once
+  for (size_t i = 0; i < steps_->size(); ++i) {
+    const BenchStep& step = (*steps_)[i];
+    EXPECT_EQ(step.total, sphere_steps + dragon_steps);
+    EXPECT_EQ(step.done, i < size_t(sphere_steps) ? int(i) + 1 : step.total) << i;
+    if (i > 0) {
+      EXPECT_GE(step.elapsed, (*steps_)[i - 1].elapsed);
+    }
+  }
+  EXPECT_EQ(steps_->back().scene, "dragon");
+  EXPECT_NE(steps_->back().line.find("skipped"), std::string::npos);
+}
 
 TEST_F(BenchRunTest, MissingSharedSceneIsASkippedRecord) {
   const auto skipped = select("skipped");

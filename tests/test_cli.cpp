@@ -350,6 +350,50 @@ TEST(Cli, BenchOutputDirectoryThatCannotBeMadeExitsOne) {
   expect_failure(result, 1, file);
 }
 
+// The bench's progress on stderr (a file here, not a terminal): progress lines with the time
+// left and a summary, or with --verbose every step's line. A tiny sphere, one structure, one
+// thread: the quickest bench there is.
+TEST(Cli, BenchPrintsProgressLinesOrWithVerboseEveryStep) {
+  const std::string scene = temp_path("bench-progress.obj");
+  gs::export_obj(gs::test::make_sphere({0.0f, 0.0f, 0.0f}, 1.0f, 6, 8), scene);
+  const std::string bench =
+      "bench --quick --accels bvh --threads 1 --scenes " + quoted(scene) + " --out ";
+  const auto count = [](const std::string& text, const std::string& part) {
+    size_t n = 0;
+    for (size_t at = text.find(part); at != std::string::npos; at = text.find(part, at + 1)) ++n;
+    return n;
+  };
+  const std::string out = temp_path("bench-progress");
+  const Outcome plain = run(bench + quoted(out));
+  ASSERT_EQ(plain.status, 0) << plain.err;
+  const std::string verbose_out = temp_path("bench-progress-verbose");
+  const Outcome verbose = run(bench + quoted(verbose_out) + " --verbose");
+  ASSERT_EQ(verbose.status, 0) << verbose.err;
+
+  // Every measurement record (its rays per second a number: not the convergence curve's) is a
+  // step with its own line (Mrays/s) under --verbose only.
+  size_t measured = 0;
+  for (const nlohmann::json& r : nlohmann::json::parse(slurp(verbose_out + "/results.json")))
+    measured += r.contains("rays_per_second") && r["rays_per_second"].is_number();
+  ASSERT_GT(measured, 0u);
+  EXPECT_EQ(count(verbose.err, "Mrays/s"), measured) << verbose.err;
+  EXPECT_EQ(count(plain.err, "Mrays/s"), 0u) << plain.err;
+  EXPECT_EQ(count(verbose.err, "ETA"), 0u) << verbose.err;
+  // The summary, the log's last progress line and --verbose's summary count the same steps,
+  // all of those planned.
+  std::smatch summary;
+  ASSERT_TRUE(
+      std::regex_search(plain.err, summary, std::regex(R"(bench: (\d+) of (\d+) steps in \d+s\n)")))
+      << plain.err;
+  const std::string steps = summary[1].str();
+  EXPECT_EQ(summary[2].str(), steps);
+  EXPECT_NE(plain.err.find("bench: " + steps + "/" + steps + " steps (100%)"), std::string::npos)
+      << plain.err;
+  EXPECT_NE(plain.err.find("ETA"), std::string::npos);
+  EXPECT_NE(verbose.err.find("bench: " + steps + " of " + steps + " steps in"), std::string::npos)
+      << verbose.err;
+}
+
 TEST(Cli, CostsFileSetsTheFiveConstantsAndLaterFlagsWin) {
   const std::string costs = temp_path("costs.json"), stats = temp_path("costs-stats.json");
   {

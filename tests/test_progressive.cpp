@@ -12,6 +12,7 @@
 #include "core/render/overlay.h"
 #include "core/render/progressive.h"
 #include "core/render/render.h"
+#include "core/trace/sampling.h"
 
 namespace gs {
 namespace {
@@ -381,6 +382,134 @@ TEST(Progressive, NewParametersDuringTheBuildTakeEffect) {
     EXPECT_GT(frame.structure.voxels_over_budget, 0u) << "delay " << delay_ms;
     expect_same_image(frame, expected);
   }
+}
+
+// A Grid1D's build figures counted voxel by voxel: examined voxels are those with triangles
+// whose status left kUnexamined (empty cells are leaves from birth, never examined); the
+// triangles sorted are those of the voxels cut.
+struct VoxelCount {
+  uint64_t examined = 0, cut = 0, triangles_of_cut = 0;
+};
+
+VoxelCount count_voxels(const Grid1D& grid) {
+  VoxelCount count;
+  for (uint32_t id = 0; id < grid.voxel_count(); ++id) {
+    const Grid1D::Voxel& voxel = grid.voxel(id);
+    const uint8_t status = voxel.status.load();
+    count.examined += voxel.tri_count > 0 && status != Grid1D::kUnexamined;
+    if (status == Grid1D::kSplit) {
+      ++count.cut;
+      count.triangles_of_cut += voxel.tri_count;
+    }
+  }
+  return count;
+}
+
+void expect_figures_match(const BuildFigures& figures, const Grid1D& grid) {
+  const VoxelCount count = count_voxels(grid);
+  EXPECT_GT(count.cut, 0u);  // the scene is cut, so the comparisons below can fail
+  EXPECT_EQ(figures.voxels_built, count.examined);
+  EXPECT_EQ(figures.voxels_subdivided, count.cut);
+  EXPECT_EQ(figures.triangles_sorted, count.triangles_of_cut);
+  EXPECT_EQ(grid.stats().voxels_subdivided, count.cut);
+}
+
+TEST(BuildProgress, SamplingFractionIsTheShareOfSampleRaysTraced) {
+  BuildFigures figures;
+  EXPECT_FALSE(figures.sampling_fraction().has_value());  // no sampling pass begun
+  figures.sample_rays = 200;
+  figures.sample_rays_traced = 50;
+  EXPECT_EQ(figures.sampling_fraction(), 0.25);
+  figures.sample_rays_traced = 200;
+  EXPECT_EQ(figures.sampling_fraction(), 1.0);
+}
+
+TEST(BuildProgress, EagerGrid1DBuildCountsEveryVoxelItBuilt) {
+  const Scene scene = load_scene("builtin:lumpy");
+  Grid1D grid{AccelParams{}};
+  grid.build(scene);
+  ASSERT_NE(grid.build_progress(), nullptr);
+  EXPECT_EQ(grid.build_progress()->figures().voxels_built, 0u);  // only the root, unexamined
+  grid.build_all();
+  expect_figures_match(grid.build_progress()->figures(), grid);
+  // Eager: every voxel with triangles was examined.
+  uint64_t with_triangles = 0;
+  for (uint32_t id = 0; id < grid.voxel_count(); ++id)
+    with_triangles += grid.voxel(id).tri_count > 0;
+  EXPECT_EQ(grid.build_progress()->figures().voxels_built, with_triangles);
+}
+
+TEST(BuildProgress, LazyGrid1DCountsWhatTheRaysBuiltAndTheSamplingPass) {
+  const Scene scene = load_scene("builtin:lumpy");
+  const Camera camera = frame_box(scene.bounds(), float(kW) / float(kH));
+  Grid1D grid{AccelParams{}};
+  grid.build(scene);
+  sample_image(scene, grid, camera, settings(1));
+  const BuildFigures sampled = grid.build_progress()->figures();
+  // One sample ray per 8x8 block of the image.
+  EXPECT_EQ(sampled.sample_rays, uint64_t((kW + 7) / 8 * ((kH + 7) / 8)));
+  EXPECT_EQ(sampled.sample_rays_traced, sampled.sample_rays);
+  EXPECT_GT(sampled.scout_voxels_built, 0u);
+  EXPECT_EQ(sampled.voxels_built, 0u);  // the scout's voxels are not the structure's
+  render_image(scene, grid, camera, settings(1, 2));
+  expect_figures_match(grid.build_progress()->figures(), grid);
+}
+
+TEST(BuildProgress, TheScoutsVoxelsAreThoseItsRaysBuildInAStructureWithoutSample) {
+  const Scene scene = load_scene("builtin:lumpy");
+  const Camera camera = frame_box(scene.bounds(), float(kW) / float(kH));
+  std::vector<Ray> rays;
+  for (const size_t pixel : image_sample_pixels(kW, kH))
+    rays.push_back(camera.primary_ray(int(pixel % kW), int(pixel / kW), kW, kH));
+  Grid1D grid{AccelParams{}};
+  grid.build(scene);
+  grid.sample(rays, 64.0);
+  // The scout is a Grid1D without sample that traces the sample's rays in order.
+  Grid1D unsampled{AccelParams{}};
+  unsampled.build(scene);
+  const std::unique_ptr<ThreadContext> context = unsampled.make_context();
+  for (const Ray& ray : rays) unsampled.intersect(ray, *context);
+  EXPECT_EQ(grid.build_progress()->figures().scout_voxels_built, count_voxels(unsampled).examined);
+}
+
+TEST(BuildProgress, TheRendererReportsTheBuildOrThatTheStructureCannot) {
+  ProgressiveRenderer renderer;
+  EXPECT_FALSE(renderer.build_status().building);  // nothing built yet
+  ViewSetup setup = setup_for(first_camera(), 1);
+  setup.threads = 1;  // one thread: the voxels the rays build do not depend on timing
+  setup.packets = false;
+  renderer.restart(setup);
+  const ProgressiveFrame grid_frame = frame_at(renderer, 1, 2);
+  ASSERT_TRUE(grid_frame.build.has_value());
+  // The full-resolution pass's rays (the coarse pass's are among them) build what
+  // render_image's build on a separately built and sampled Grid1D.
+  Grid1D separate{AccelParams{}};
+  separate.build(*pyramid());
+  sample_image(*pyramid(), separate, first_camera(), settings(1));
+  RenderSettings one_by_one = settings(1, 1);
+  one_by_one.packets = false;
+  render_image(*pyramid(), separate, first_camera(), one_by_one);
+  expect_figures_match(*grid_frame.build, separate);
+  EXPECT_EQ(grid_frame.build->sample_rays, uint64_t(kW / 8 * (kH / 8)));
+  const BuildStatus grid_status = renderer.build_status();
+  EXPECT_EQ(grid_status.structure, "grid1d");
+  EXPECT_FALSE(grid_status.building);
+  EXPECT_GT(grid_status.seconds, 0.0);
+  ASSERT_TRUE(grid_status.figures.has_value());
+  // The build ended with the full-resolution pass (the last, with max_spp 1): its figures
+  // are that frame's.
+  EXPECT_EQ(grid_status.figures->voxels_built, grid_frame.build->voxels_built);
+  EXPECT_EQ(grid_status.figures->triangles_sorted, grid_frame.build->triangles_sorted);
+  EXPECT_EQ(grid_status.figures->sample_rays_traced, grid_frame.build->sample_rays);
+
+  setup.accel = "bvh";
+  renderer.restart(setup);
+  const ProgressiveFrame bvh_frame = frame_at(renderer, 2, 2);
+  EXPECT_FALSE(bvh_frame.build.has_value());
+  const BuildStatus bvh_status = renderer.build_status();
+  EXPECT_EQ(bvh_status.structure, "bvh");
+  EXPECT_FALSE(bvh_status.building);
+  EXPECT_FALSE(bvh_status.figures.has_value());
 }
 
 TEST(SceneLoader, ReportsAFailedLoadAndKeepsTheNewestRequest) {

@@ -565,4 +565,58 @@ TEST(View, LayoutWithAComparisonFitsTheSmallestWindow) {
   expect_nothing_clipped(figures.at("layout"));
 }
 
+// The build progress bar (app/view/build_progress.h) over a build longer than half a second,
+// and the build's figures --stats reports.
+TEST(View, ALongBuildShowsTheProgressBarAndItsFiguresAreTheStructures) {
+  if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed: the viewer needs a display";
+  // Cuts that cost next to nothing against tests, into up to 4096 cells: the first image's
+  // rays (at the default window size) build sphereflake's grid for seconds (2.8 s on this
+  // project's 2-core machine, 50,000 voxels built, 600 MB).
+  const std::string stats = temp_path("progress.json");
+  const Outcome view = run_in_xvfb(
+      "view builtin:sphereflake --max-granularity 4096 --subcost 0.001 --intcost 1000 "
+      "--frames 2 --stats '" +
+      stats + "'");
+  ASSERT_EQ(view.status, 0) << view.err;
+  const nlohmann::json figures = read_json(stats);
+  const nlohmann::json& progress = figures.at("build_progress");
+  const nlohmann::json& build = progress.at("build");
+  const nlohmann::json& ended = build.at("figures");
+  EXPECT_EQ(build.at("structure"), "grid1d");
+  EXPECT_EQ(build.at("building"), false);  // ended with the first full-resolution pass
+  // The sampling pass traces one ray per 8x8 block of the view.
+  const int width = figures.at("view").at("width"), height = figures.at("view").at("height");
+  const auto sample_rays = uint64_t((width + 7) / 8 * ((height + 7) / 8));
+  EXPECT_EQ(ended.at("sample_rays"), sample_rays);
+  EXPECT_EQ(ended.at("sample_rays_traced"), sample_rays);
+  // The build ends as the full-resolution pass is published, so that pass's frame carries its
+  // final figures, taken with the frame's statistics; a later pass only adds voxels.
+  const nlohmann::json& at_frame = progress.at("frame");
+  EXPECT_EQ(at_frame.at("voxels_subdivided"), figures.at("voxels_subdivided"));
+  for (const char* figure : {"voxels_built", "voxels_subdivided", "triangles_sorted"}) {
+    if (figures.at("view").at("pass") == 2)
+      EXPECT_EQ(at_frame.at(figure), ended.at(figure)) << figure;
+    else
+      EXPECT_GE(at_frame.at(figure).get<uint64_t>(), ended.at(figure).get<uint64_t>()) << figure;
+  }
+  EXPECT_GT(ended.at("voxels_subdivided").get<uint64_t>(), 0u);
+  EXPECT_GE(ended.at("voxels_built").get<uint64_t>(),
+            ended.at("voxels_subdivided").get<uint64_t>());
+
+  // The UI draws at least 30 frames a second: a build under half a second shows no bar, one
+  // over a second shows it. How long this one takes depends on the machine's cores.
+  const double seconds = build.at("seconds");
+  if (seconds < 0.5) {
+    EXPECT_EQ(progress.at("bar_shown"), false);
+  }
+  if (seconds < 1.0) GTEST_SKIP() << "built in " << seconds << " s: too quick to check the bar";
+  ASSERT_EQ(progress.at("bar_shown"), true) << figures.dump();
+  const nlohmann::json& shown = progress.at("bar_last").at("figures");
+  EXPECT_GT(progress.at("bar_last").at("seconds").get<double>(), 0.5);
+  EXPECT_EQ(shown.at("sample_rays"), sample_rays);
+  // The bar showed the build under way: no more than it came to.
+  for (const char* figure : {"sample_rays_traced", "voxels_built", "voxels_subdivided"})
+    EXPECT_LE(shown.at(figure).get<uint64_t>(), ended.at(figure).get<uint64_t>()) << figure;
+}
+
 }  // namespace

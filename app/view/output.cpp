@@ -65,6 +65,36 @@ nlohmann::json layout_json(const Viewport& view) {
           {"windows", windows}};
 }
 
+nlohmann::json figures_json(const std::optional<BuildFigures>& figures) {
+  if (!figures) return nullptr;
+  const std::optional<double> fraction = figures->sampling_fraction();
+  return {{"voxels_built", figures->voxels_built},
+          {"voxels_subdivided", figures->voxels_subdivided},
+          {"triangles_sorted", figures->triangles_sorted},
+          {"sample_rays", figures->sample_rays},
+          {"sample_rays_traced", figures->sample_rays_traced},
+          {"scout_voxels_built", figures->scout_voxels_built},
+          {"sampling_fraction", fraction ? nlohmann::json(*fraction) : nlohmann::json(nullptr)}};
+}
+
+nlohmann::json status_json(const BuildStatus& status) {
+  return {{"structure", status.structure},
+          {"building", status.building},
+          {"seconds", status.seconds},
+          {"figures", figures_json(status.figures)}};
+}
+
+// Whether the build progress bar was shown and what it last showed, the newest build as it
+// stands (its figures when it ended), and the build's figures taken with the shown frame's
+// structure statistics (figures are null where the structure reports none).
+nlohmann::json build_progress_json(const ViewState& state) {
+  const BuildBarRecord& bar = state.build_bar;
+  return {{"bar_shown", bar.shown},
+          {"bar_last", bar.shown ? status_json(bar.last) : nlohmann::json(nullptr)},
+          {"build", status_json(state.session.build_status())},
+          {"frame", figures_json(state.session.frame().build)}};
+}
+
 }  // namespace
 
 void write_walk(const PickedWalk& picked, const std::string& path) {
@@ -125,7 +155,8 @@ void write_stats(const ViewState& state, const nlohmann::json& compare, const st
                           {"voxels_over_budget", s.voxels_over_budget},
                           {"error", frame.error},
                           {"status", state.status.text()},
-                          {"layout", layout_json(state.viewport)}};
+                          {"layout", layout_json(state.viewport)},
+                          {"build_progress", build_progress_json(state)}};
   stats["compare"] = compare;
   write_json(path, stats);
 }

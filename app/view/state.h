@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "app/view/build_progress.h"
 #include "app/view/layout.h"
 #include "app/view/picked_walk.h"
 #include "core/render/overlay.h"
@@ -60,6 +61,7 @@ class Session {
   uint64_t camera_changes() const { return camera_changes_; }
 
   bool structure_ready() const { return renderer_.structure_ready(); }
+  BuildStatus build_status() const { return renderer_.build_status(); }
   std::optional<Walk> record_walk(int x, int y) { return renderer_.record_walk(x, y); }
   void with_structure_paused(const std::function<void(const Accelerator&)>& visit) {
     renderer_.with_structure_paused(visit);
@@ -129,6 +131,7 @@ struct ViewState {
   // A/B: B has not yet shown a full-resolution pass of the current view (scripts wait).
   bool compare_pending = false;
   StatusLine status;
+  BuildBarRecord build_bar;  // what the build progress bar has shown
 };
 
 }  // namespace gs::app

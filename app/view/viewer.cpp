@@ -9,6 +9,7 @@
 #include <glm/trigonometric.hpp>
 #include <utility>
 
+#include "app/view/build_progress.h"
 #include "app/view/output.h"
 #include "core/render/camera_control.h"
 
@@ -130,6 +131,7 @@ void Viewer::build_ui() {
   panels_.draw(state_, layout_);
   splitters_.draw(layout_);
   help_.draw();
+  draw_build_progress(state_);
 }
 
 // Places the viewport and panels for the window's current size and the splitters; a new

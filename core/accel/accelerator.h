@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/accel/build_progress.h"
 #include "core/accel/params.h"
 #include "core/accel/walk.h"
 #include "core/geometry/ray.h"
@@ -131,6 +132,9 @@ class Accelerator {
   // The explorer's overlays and inspector (cells, traversal states, cost reports) read the
   // 1D grid's own records; every other structure has none to show.
   virtual const Grid1D* grid1d() const { return nullptr; }
+  // How far the build has got, readable from another thread while build, sample or
+  // build_all run (and while rays build lazily); null for a structure that cannot tell.
+  virtual const BuildProgress* build_progress() const { return nullptr; }
 };
 
 // The structures this build has, in the registry's order (registry.h).

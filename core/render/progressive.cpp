@@ -76,6 +76,14 @@ struct ProgressiveRenderer::State {
   std::shared_ptr<Accelerator> ready;
   std::optional<StructureKey> ready_key;
   std::shared_ptr<const ProgressiveFrame> frame;  // the newest finished pass (immutable)
+  // The newest structure built (build_status reads its progress) after the scene it was
+  // built over (which must outlive it), when its build began and, once over, how long it
+  // took and its figures then.
+  std::shared_ptr<const Scene> last_build_scene;
+  std::shared_ptr<const Accelerator> last_build;
+  Clock::time_point build_started;
+  std::optional<double> build_seconds;
+  std::optional<BuildFigures> build_figures;
 
   // --- Read by the rendering threads without the mutex.
   std::atomic<uint64_t> live_generation{0};  // rows of any other generation are skipped
@@ -145,6 +153,23 @@ struct ProgressiveRenderer::State {
     return !stop && StructureKey(setup) == key;
   }
 
+  // The build build_status reports on: from begin_build to end_build (the first call ends it).
+  void begin_build(std::shared_ptr<const Accelerator> accel, std::shared_ptr<const Scene> scene) {
+    std::lock_guard lock(mutex);
+    last_build = std::move(accel);  // the old one goes while its scene is still held
+    last_build_scene = std::move(scene);
+    build_started = Clock::now();
+    build_seconds.reset();
+    build_figures.reset();
+  }
+  void end_build() {
+    std::lock_guard lock(mutex);
+    if (!last_build || build_seconds) return;
+    build_seconds = seconds_since(build_started);
+    if (const BuildProgress* progress = last_build->build_progress())
+      build_figures = progress->figures();
+  }
+
   void controller_loop();
   void run_generation(uint64_t gen, const ViewSetup& setup, Clock::time_point start,
                       std::shared_ptr<Accelerator> accel);
@@ -205,11 +230,18 @@ void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& s
       // A new structure: built and sampled here (not cancellable; the image's sampling pass
       // with spp 1, as `trace --sample-image WxH` does it).
       std::shared_ptr<Accelerator> built = make_accelerator(setup.accel, setup.params);
+      begin_build(built, setup.scene);
       built->build(*setup.scene);
       // Parameters changed (or the window closed) during the build: skip the sampling pass
       // of a structure nobody will use. A camera change keeps it: it still fits.
-      if (!wanted(StructureKey(setup))) return;
+      if (!wanted(StructureKey(setup))) {
+        end_build();
+        return;
+      }
       sample_image(*setup.scene, *built, setup.camera, centre);
+      // A structure that reports its progress builds lazily: the first passes' rays go on
+      // building it, and its build ends with the first full-resolution pass (publish).
+      if (!built->build_progress()) end_build();
       lazy_seconds = 0.0;
       std::lock_guard lock(mutex);
       ready = built;
@@ -249,6 +281,10 @@ void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& s
       frame->counters = outcome.counters;
       frame->structure = accel->stats();
       frame->structure.build_seconds += lazy_seconds;
+      if (const BuildProgress* progress = accel->build_progress())
+        frame->build = progress->figures();
+      // Ended before the frame is handed out: whoever sees the frame sees the build over.
+      if (pass >= 2) end_build();
       {
         std::lock_guard lock(mutex);
         if (generation != gen) return false;
@@ -291,6 +327,7 @@ void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& s
     if (generation == gen) busy = false;
   } catch (...) {
     const std::string message = caught_error_line();
+    end_build();
     std::lock_guard lock(mutex);
     if (generation != gen) return;
     auto frame = std::make_shared<ProgressiveFrame>();
@@ -400,6 +437,30 @@ bool ProgressiveRenderer::busy() const { return state_->busy.load(); }
 bool ProgressiveRenderer::structure_ready() const {
   std::lock_guard lock(state_->mutex);
   return state_->settled;
+}
+
+BuildStatus ProgressiveRenderer::build_status() const {
+  State& s = *state_;
+  BuildStatus status;
+  // Held in this order so that, should they be the last holders, the structure goes first.
+  std::shared_ptr<const Scene> scene;
+  std::shared_ptr<const Accelerator> accel;
+  {
+    std::lock_guard lock(s.mutex);
+    if (!s.last_build) return status;
+    scene = s.last_build_scene;
+    accel = s.last_build;
+    status.structure = accel->name();
+    status.building = !s.build_seconds;
+    status.seconds = s.build_seconds ? *s.build_seconds : seconds_since(s.build_started);
+    if (!status.building) {
+      status.figures = s.build_figures;
+      return status;
+    }
+  }
+  // Outside the lock: the figures are atomics the building threads update without it.
+  if (const BuildProgress* progress = accel->build_progress()) status.figures = progress->figures();
+  return status;
 }
 
 struct SceneLoader::State {

@@ -53,6 +53,22 @@ struct ProgressiveFrame {
   TraceCounters counters;        // of the last finished pass (packet figures among them)
   StructureStats structure;      // of the structure the frame was rendered with
   std::string error;             // a failed build or render: what went wrong, one line
+  // Its build's figures taken with `structure` (null: the structure reports none).
+  std::optional<BuildFigures> build;
+};
+
+// The newest structure build as a progress display shows it: what the first image waits
+// for. That is the build proper and the image's sampling pass and, for a structure that
+// reports its progress (grid1d, which builds lazily), the first passes too, whose rays build
+// it: its build ends when the first full-resolution pass is published.
+struct BuildStatus {
+  std::string structure;  // its name (the setup may already ask for another)
+  bool building = false;  // not yet ended
+  double seconds = 0.0;   // since it began; its whole length once it has ended
+  // As far as the structure can tell (null: it cannot; Accelerator::build_progress): live
+  // while building, then as they were when the build ended (later passes add to the
+  // structure's own record).
+  std::optional<BuildFigures> figures;
 };
 
 class ProgressiveRenderer {
@@ -81,6 +97,8 @@ class ProgressiveRenderer {
   // True when the current setup's structure is known (built and sampled, failed, or none):
   // record_walk then does not wait for a build, only for the rows in flight.
   bool structure_ready() const;
+  // The newest build's progress (none begun: not building, no figures). Never waits for it.
+  BuildStatus build_status() const;
 
  private:
   struct State;

@@ -163,12 +163,16 @@ std::vector<Grid1D::SampleRay> Grid1D::scout_sample(std::span<const Ray> sample_
   scout.input_ = std::move(input_);
   scout.make_root();
   Context context(scout);
+  progress_.sample_rays.store(sample_rays.size(), std::memory_order_relaxed);
   std::vector<Ray> rays(sample_rays.begin(), sample_rays.end());
   std::vector<SampleRay> segments;
   for (size_t i = 0; i < rays.size(); ++i) {
     const Ray ray = rays[i];  // `spawn` may grow `rays`
     const Hit hit = scout.intersect(ray, context);
-    if (spawn && i < sample_rays.size()) spawn(ray, hit, rays);
+    if (i < sample_rays.size()) {
+      if (spawn) spawn(ray, hit, rays);
+      report_sampling(i + 1, scout);
+    }
     SampleRay s{};
     s.ray = ray;
     if (!scout.input_.clip.clip(ray, s.t0, s.t1)) continue;
@@ -177,6 +181,13 @@ std::vector<Grid1D::SampleRay> Grid1D::scout_sample(std::span<const Ray> sample_
     segments.push_back(s);
   }
   return segments;
+}
+
+// The sampling pass's figures after `traced` of its rays: the scout builds as they go.
+void Grid1D::report_sampling(uint64_t traced, const Grid1D& scout) const {
+  progress_.sample_rays_traced.store(traced, std::memory_order_relaxed);
+  progress_.scout_voxels_built.store(scout.progress_.voxels_built.load(std::memory_order_relaxed),
+                                     std::memory_order_relaxed);
 }
 
 void Grid1D::build_all() {
@@ -219,6 +230,7 @@ uint32_t Grid1D::examine(uint32_t id, Context& context) const {
   slot.store(ref, std::memory_order_release);
   voxel.status.store(split ? kSplit : kLeaf, std::memory_order_release);
   ++context.counters.voxels_built;
+  add_progress(progress_.voxels_built);
   context.counters.lazy_build_seconds += seconds_since(start);
   return ref;
 }
@@ -479,7 +491,8 @@ uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
     child_region.sample_begin = uint32_t(sample_base + cut.sample_offsets[i]);
     child_region.sample_count = cut.sample_offsets[i + 1] - cut.sample_offsets[i];
   }
-  ++subdivided_;
+  add_progress(progress_.voxels_subdivided);
+  add_progress(progress_.triangles_sorted, voxels_[id].tri_count);
   raise_to(deepest_, region.depth + 1);
   return child_ref::make(child_ref::kNode, uint32_t(node));
 }
@@ -536,8 +549,9 @@ void Grid1D::link_children(uint32_t id, const Cut& cut, uint32_t first_child, ui
 StructureStats Grid1D::stats() const {
   StructureStats s;
   s.nodes = voxels_.size();
-  s.voxels_subdivided = subdivided_.load();
-  s.leaves = voxels_.size() - subdivided_.load();
+  const uint64_t subdivided = progress_.voxels_subdivided.load(std::memory_order_relaxed);
+  s.voxels_subdivided = subdivided;
+  s.leaves = voxels_.size() - subdivided;
   s.traversal_states = states_.size();
   s.counts_descents = true;
   s.depth = deepest_.load();

@@ -71,6 +71,7 @@ class Grid1D final : public Accelerator {
                     bool any_hit, ThreadContext& context) const override;
   bool traces_packets() const override { return true; }
   const Grid1D* grid1d() const override { return this; }
+  const BuildProgress* build_progress() const override { return &progress_; }
 
   static constexpr uint32_t kNone = UINT32_MAX;  // "no voxel above": the scene box itself
 
@@ -160,6 +161,7 @@ class Grid1D final : public Accelerator {
   // Lazy build (build.cpp).
   void make_root();
   std::vector<SampleRay> scout_sample(std::span<const Ray> sample_rays, const SpawnRays& spawn);
+  void report_sampling(uint64_t traced, const Grid1D& scout) const;
   uint32_t examine(uint32_t voxel, Context& context) const;
   uint32_t make_leaf(uint32_t voxel) const;
   Cut plan_cut(uint32_t voxel) const;
@@ -207,7 +209,9 @@ class Grid1D final : public Accelerator {
   mutable std::unordered_map<uint64_t, uint32_t> state_ids_;
   // The root voxel's reference: where every walk starts.
   mutable std::atomic<uint32_t> root_ref_{0};
-  mutable std::atomic<uint64_t> subdivided_{0};
+  // Voxels examined and cut, triangles sorted, the sampling pass's rays: the build's
+  // figures, read by the statistics and (while the build runs) by a progress display.
+  mutable BuildProgress progress_;
   mutable std::atomic<uint64_t> over_budget_{0};
   mutable std::atomic<uint64_t> deepest_{0};
   mutable std::atomic<uint64_t> bytes_used_{0};
