@@ -241,7 +241,7 @@ Parser view_parser() {
       string_flag(
           "--script", "FILE",
           "runs lines \"frame N: resize WxH|open SCENE|set NAME VALUE|close\" (NAME: accel, "
-          "packets or a structure flag)",
+          "packets, overlay (VALUE as --overlay takes it) or a structure flag)",
           job->script),
       string_flag("--stats", "FILE.json", "writes the last frame's figures on exit", job->stats),
   };

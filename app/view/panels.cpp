@@ -114,7 +114,7 @@ void Panels::controls_panel(ViewState& state) {
   ImGui::Begin("controls", nullptr, kPanelFlags);
   const ImGuiTreeNodeFlags open = ImGuiTreeNodeFlags_DefaultOpen;
   if (ImGui::CollapsingHeader("structure", open)) structure_.controls(state);
-  if (ImGui::CollapsingHeader("overlays", open)) overlay_controls(state, overlays_.heat());
+  if (ImGui::CollapsingHeader("overlays", open)) overlay_controls(state, overlays_);
   if (ImGui::CollapsingHeader("camera", open)) camera_.controls(state);
   if (ImGui::CollapsingHeader("scene", open)) scene_.controls();
   const std::string& status = state.status.text();

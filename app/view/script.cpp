@@ -12,6 +12,7 @@
 #include "app/view/state.h"
 #include "app/view/view.h"
 #include "core/base/error.h"
+#include "core/render/overlay.h"
 #include "core/render/render.h"
 
 namespace gs::app {
@@ -66,6 +67,10 @@ std::optional<std::array<int, 2>> window_size(const std::string& word) {
 
 // `set NAME VALUE`'s value, checked as the command line checks it; throws UsageError.
 void check_setting(const std::string& name, const std::string& value) {
+  if (name == "overlay") {
+    parse_overlays(value, "set overlay");
+    return;
+  }
   if (name == "packets") {
     if (value != "on" && value != "off")
       throw UsageError("set packets '" + value + "': expected on or off");

@@ -21,7 +21,8 @@ struct ScriptStep {
   int frame = 1;
   Action action = Action::close;
   std::array<int, 2> size{0, 0};  // resize: the window's new size; 0x0 minimises it
-  std::string name;               // open: SCENE; set: `accel` or a structure flag's name
+  std::string name;               // open: SCENE; set: `accel`, `packets`, `overlay` or a
+                                  // structure flag's name
   std::string value;              // set: its value, as the command line takes it
   float degrees = 0.0f;           // orbit: the turn about the pivot
 };
@@ -29,7 +30,9 @@ struct ScriptStep {
 // A --script file's steps, in frame order. One step a line, "frame N: ACTION" with ACTION
 // one of `resize WxH` (0x0: minimised), `open SCENE`, `set NAME VALUE` (NAME `accel` or a
 // structure flag without its dashes, e.g. `set max-granularity 8`, applied as the panel's
-// Apply does; or `packets` with on or off, as the panel's checkbox), `orbit DEG` (turns the
+// Apply does; `packets` with on or off, as the panel's checkbox; or `overlay` with a list
+// as --overlay takes it, e.g. `set overlay cells,walk,depth:1-3`, replacing the overlays
+// shown), `orbit DEG` (turns the
 // camera about the pivot by DEG degrees, as a horizontal drag does), `wait` (later steps wait
 // until the current view's full-resolution pass is shown) and `close`; blank lines and
 // lines starting with '#' are skipped. `path` names the file in errors: InputError "FILE:LINE:

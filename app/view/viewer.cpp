@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "app/view/output.h"
+#include "app/view/overlay_panel.h"
 #include "core/render/camera_control.h"
 
 namespace gs::app {
@@ -76,7 +77,10 @@ void Viewer::run_step(const ScriptStep& step) {
       scene_.open(step.name);
       break;
     case ScriptStep::Action::set:
-      structure_.set(state_, step.name, step.value);
+      if (step.name == "overlay")
+        choose_overlays(state_, overlays_.heat(), parse_overlays(step.value));
+      else
+        structure_.set(state_, step.name, step.value);
       break;
     case ScriptStep::Action::orbit:
       state_.session.move_camera(
