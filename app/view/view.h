@@ -33,7 +33,7 @@ struct ViewJob {
   std::string walk_out;                        // the clicked pixel's walk as JSON
   // Shown at the start (--overlay): a clicked walk with the walls of the voxels it crossed,
   // over an image otherwise left clear.
-  OverlaySelection overlays{.cells = true, .walk = true, .depths = {}, .near_walk = true};
+  OverlaySelection overlays{.cells = true, .walk = true, .near_walk = true};
   std::string script;  // --script FILE: steps, see parse_script
   std::string stats;   // --stats FILE.json: written on exit
 };

@@ -64,11 +64,11 @@ struct DepthRange {
 
 // Lines drawn at once at most by one structure overlay: about what a 1280x800 view can show
 // and still leave the image and the walk readable.
-constexpr size_t kMaxOverlaySegments = 16000;
+constexpr size_t kMaxOverlaySegments = 6000;
 
 // Which subdivided voxels the cells and states overlays draw.
 struct VoxelFilter {
-  DepthRange depths;
+  DepthRange depths{};
   // Only the voxels the walk went through: those holding one of its cells (its cells'
   // ancestors). With no walk, none.
   bool near_walk = false;
@@ -121,7 +121,7 @@ struct OverlaySelection {
   bool states = false;
   bool walk = false;
   HeatKind heat = HeatKind::none;
-  DepthRange depths;       // of cells and states
+  DepthRange depths{};     // of cells and states
   bool near_walk = false;  // cells and states only around the walk
   bool needs_grid() const { return cells || states || walk; }
 };
