@@ -90,12 +90,11 @@ void structure_filter_controls(ViewState& state, const OverlayCache& overlays) {
   if (ImGui::SmallButton("all")) shown.depths = {}, changed = true;
   if (changed) state.overlays_stale = true;
   for (const LineSet& set : overlays.structure_lines()) {
-    const Coverage& coverage = set.coverage;
-    const std::string text = coverage.describe();
-    if (coverage.shown() < coverage.total())
-      ImGui::TextColored(kCappedNote, "%s", text.c_str());
-    else
-      ImGui::TextDisabled("%s", text.c_str());
+    const bool capped = set.coverage.shown() < set.coverage.total();
+    ImGui::PushStyleColor(ImGuiCol_Text,
+                          capped ? kCappedNote : ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+    ImGui::TextWrapped("%s", set.coverage.describe().c_str());
+    ImGui::PopStyleColor();
   }
   if (shown.near_walk && !state.picked.walk) ImGui::TextDisabled("click the image to pick a walk");
 }
