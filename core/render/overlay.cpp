@@ -301,9 +301,9 @@ LineSet cell_lines(const Grid1D& grid, CellColoring coloring, const VoxelFilter&
   if (coloring == CellColoring::axis) {
     for (int a = 0; a < 3; ++a) lines.legend.push_back({kAxisNames[a], kAxisColors[a]});
   } else {
-    const std::vector<uint64_t>& by_depth = lines.coverage.total_by_depth;
-    for (uint32_t d = 0; d < by_depth.size(); ++d)
-      if (by_depth[d] > 0)
+    const std::vector<uint64_t>& shown = lines.coverage.shown_by_depth;
+    for (uint32_t d = 0; d < shown.size(); ++d)
+      if (shown[d] > 0)
         lines.legend.push_back(
             {"depth " + std::to_string(d), kDepthPalette[d % std::size(kDepthPalette)]});
   }
