@@ -281,7 +281,8 @@ float alpha_for_depth(uint32_t depth, uint32_t first) {
 LineSet cell_lines(const Grid1D& grid, CellColoring coloring, const VoxelFilter& filter) {
   LineSet lines;
   lines.coverage.overlay = "cells", lines.coverage.item = "walls";
-  if (grid.voxel_count() == 0) return lines;
+  // Near no walk, not even the scene box: the image stays clear until a click.
+  if (grid.voxel_count() == 0 || (filter.near_walk && !filter.walk)) return lines;
   const DBox root = box_of(grid, 0);
   add_box(lines, root.lo, root.hi, kSceneBoxColor);
   Budget budget(lines, filter.max_segments);

@@ -70,7 +70,7 @@ constexpr size_t kMaxOverlaySegments = 6000;
 struct VoxelFilter {
   DepthRange depths{};
   // Only the voxels the walk went through: those holding one of its cells (its cells'
-  // ancestors). With no walk, none.
+  // ancestors). With no walk, none, and cells draw no scene box either.
   bool near_walk = false;
   const Walk* walk = nullptr;
   size_t max_segments = kMaxOverlaySegments;  // the scene box's 12 included
