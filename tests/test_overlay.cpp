@@ -513,6 +513,10 @@ TEST(ParseOverlays, AcceptsTheListWords) {
   for (const std::string list :
        {"cells,walk,near-walk,depth:1-3", "states,depth:2-2,heat:built", "walk", "cells,states"})
     EXPECT_EQ(format_overlays(parse_overlays(list)), list);
+  // A filter left on with nothing to filter (the panel's cells unticked) is not written.
+  OverlaySelection unticked = parse_overlays("cells,walk,near-walk,depth:2-4");
+  unticked.cells = false;
+  EXPECT_EQ(format_overlays(unticked), "walk");
 }
 
 TEST(ParseOverlays, RejectsBadListsNamingTheProblem) {

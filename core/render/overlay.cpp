@@ -481,8 +481,10 @@ std::string format_overlays(const OverlaySelection& selection) {
   if (selection.cells) words.push_back("cells");
   if (selection.states) words.push_back("states");
   if (selection.walk) words.push_back("walk");
-  if (selection.near_walk) words.push_back("near-walk");
-  if (!selection.depths.everything())
+  // The filter words only with something to filter, as parse_overlays requires.
+  const bool filtered = selection.cells || selection.states;
+  if (filtered && selection.near_walk) words.push_back("near-walk");
+  if (filtered && !selection.depths.everything())
     words.push_back("depth:" + std::to_string(selection.depths.first) + "-" +
                     std::to_string(selection.depths.last));
   if (selection.heat != HeatKind::none)

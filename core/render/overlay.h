@@ -131,7 +131,8 @@ struct OverlaySelection {
 // Throws UsageError "SOURCE 'LIST': problem": an unknown word, two heat kinds or depth
 // ranges, a malformed range, or depth: or near-walk with neither cells nor states to apply to.
 OverlaySelection parse_overlays(const std::string& list, const std::string& source = "--overlay");
-// The list parse_overlays reads back as `selection` (the panel's "as --overlay" line).
+// The list parse_overlays reads back as `selection` (the panel's "as --overlay" line); the
+// depth range and near-walk only with cells or states.
 std::string format_overlays(const OverlaySelection& selection);
 
 // The turbo colour map (Mikhail, Google 2019), x in 0..1 (clamped), as 8-bit RGB.
