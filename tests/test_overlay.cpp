@@ -365,9 +365,13 @@ TEST_F(Overlay, NearWalkDrawsOnlyTheVoxelsTheWalkCrossed) {
                             [&](uint32_t id) { return inside(id, a) && inside(id, b); }))
         << "segment " << i / 2 << " outside every crossed voxel";
   }
-  // States: exactly the crossed voxels' boxes, each corner a corner of one of them.
+  // States: exactly the crossed voxels' boxes, each corner a corner of one of them; the
+  // legend names their states only.
   const LineSet states = state_lines(grid, filter);
   ASSERT_EQ(states.vertices.size(), 24 * crossed.size());
+  std::set<uint32_t> crossed_states;
+  for (uint32_t id : crossed) crossed_states.insert(grid.voxel(id).state);
+  EXPECT_EQ(states.legend.size(), crossed_states.size());
   for (size_t box = 0; box < crossed.size(); ++box) {
     const glm::vec3 corner = states.vertices[24 * box].position;
     EXPECT_TRUE(std::any_of(crossed.begin(), crossed.end(),

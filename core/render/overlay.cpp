@@ -15,6 +15,7 @@
 #include <map>
 #include <numeric>
 #include <optional>
+#include <set>
 
 #include "core/base/error.h"
 #include "core/base/hash.h"
@@ -330,13 +331,15 @@ LineSet state_lines(const Grid1D& grid, const VoxelFilter& filter) {
   LineSet lines;
   lines.coverage.overlay = "states", lines.coverage.item = "voxels";
   Budget budget(lines, filter.max_segments);
+  std::set<uint32_t> drawn;  // states with a box drawn: the legend lists only those
   for_each_split(grid, filter, [&](uint32_t id, const Grid1D::Voxel& voxel, uint32_t depth) {
     if (!budget.admit(depth, kBoxSegments)) return;
     const DBox box = box_of(grid, id);
     add_box(lines, box.lo, box.hi, faded(state_color(voxel.state), depth, filter.depths));
+    drawn.insert(voxel.state);
   });
   for (const StateRow& row : state_table(grid))
-    lines.legend.push_back({state_label(row), state_color(row.state)});
+    if (drawn.count(row.state)) lines.legend.push_back({state_label(row), state_color(row.state)});
   return lines;
 }
 

@@ -84,7 +84,7 @@ LineSet cell_lines(const Grid1D& grid, CellColoring coloring, const VoxelFilter&
 
 // The voxels that share each traversal state (axis, absolute granularity), each state in its
 // own colour (the 12 box edges of every subdivided voxel `filter` lets through); legend: one
-// entry per state.
+// entry per state drawn.
 LineSet state_lines(const Grid1D& grid, const VoxelFilter& filter = {});
 
 // The opacity of a structure line at `depth` when the shown range starts at `first`: falls
