@@ -73,7 +73,7 @@ struct VoxelFilter {
   // ancestors). With no walk, none, and cells draw no scene box either.
   bool near_walk = false;
   const Walk* walk = nullptr;
-  size_t max_segments = kMaxOverlaySegments;  // the scene box's 12 included
+  size_t max_segments = kMaxOverlaySegments;  // for cells, the scene box's 12 included
 };
 
 // The walls of the 1D subdivisions built so far that `filter` lets through: for each
@@ -107,6 +107,7 @@ std::vector<StateRow> state_table(const Grid1D& grid);
 // every cell it visited; the cell `highlight` (an index into walk.cells, or -1 for none) in
 // a lighter shade and filled translucently.
 LineSet walk_lines(const Walk& walk, int highlight = -1);
+// The walk's magenta: no depth, axis or state colour comes near it.
 extern const glm::vec4 kWalkColor;
 
 // The per-pixel figures a heatmap can show (PixelRecord).
