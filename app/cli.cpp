@@ -250,7 +250,8 @@ Parser view_parser() {
       string_flag(
           "--script", "FILE",
           "runs lines \"frame N: resize WxH|open SCENE|set NAME VALUE|orbit DEG|wait|close\" "
-          "(NAME: accel, packets, a structure flag, compare or compare-view)",
+          "(NAME: accel, packets, overlay (VALUE as --overlay takes it), a structure flag, "
+          "compare or compare-view)",
           job->script),
       string_flag("--stats", "FILE.json", "writes the last frame's figures on exit", job->stats),
       {"--compare", "SPEC",

@@ -206,7 +206,11 @@ Flag accel_flag(std::string& accel) {
 
 Flag overlay_flag(OverlaySelection& overlays) {
   return {"--overlay", "LIST",
-          "comma-separated: cells, states, walk (grid1d's), heat:steps, heat:tests, heat:built",
+          "comma-separated, grid1d's: cells, states, walk; depth:A-B (cells and states of levels "
+          "A..B only, root 0), near-walk (only the voxels the walk crossed); and heat:steps, "
+          "heat:tests or heat:built. Cells and states show at most " +
+              std::to_string(kMaxOverlaySegments) +
+              " lines each, shallow levels first (view's default: cells,walk,near-walk)",
           [&overlays](const std::string& v) { overlays = parse_overlays(v); }};
 }
 

@@ -7,6 +7,7 @@
 #include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <vector>
 
 #include "app/gl/frame.h"
@@ -52,18 +53,26 @@ Overlays make_overlays(const ShotJob& job, const Accelerator& accel, const Camer
                        const RenderOutcome& outcome) {
   Overlays overlays;
   const Grid1D* grid = accel.grid1d();
-  if (job.overlays
-          .walk) {  // first: re-tracing the ray may build voxels the cells overlay then shows
+  const OverlaySelection& chosen = job.overlays;
+  // The walk first: re-tracing the ray may build voxels the cells overlay then shows, and
+  // near-walk needs it.
+  std::optional<Walk> walk;
+  if (chosen.walk || chosen.near_walk) {
     const auto [x, y] = walk_pixel(job);
     const auto context = accel.make_context();
-    const Ray ray = camera.primary_ray(x, y, job.settings.width, job.settings.height);
-    if (const std::optional<Walk> walk = accel.record_walk(ray, *context))
-      overlays.lines.push_back(walk_lines(*walk));
+    walk = accel.record_walk(camera.primary_ray(x, y, job.settings.width, job.settings.height),
+                             *context);
   }
-  if (job.overlays.cells) overlays.lines.push_back(cell_lines(*grid, CellColoring::depth));
-  if (job.overlays.states) overlays.lines.push_back(state_lines(*grid));
-  if (job.overlays.heat != HeatKind::none)
-    overlays.heat_values = heat_values(outcome.pixels, job.overlays.heat, job.settings.spp);
+  const VoxelFilter filter{
+      .depths = chosen.depths, .near_walk = chosen.near_walk, .walk = walk ? &*walk : nullptr};
+  if (chosen.cells) overlays.lines.push_back(cell_lines(*grid, CellColoring::depth, filter));
+  if (chosen.states) overlays.lines.push_back(state_lines(*grid, filter));
+  for (const LineSet& set : overlays.lines)
+    std::fprintf(stderr, "gridscope shot: %s\n", set.coverage.describe().c_str());
+  // After the notes: the walk is never capped.
+  if (chosen.walk && walk) overlays.lines.push_back(walk_lines(*walk));
+  if (chosen.heat != HeatKind::none)
+    overlays.heat_values = heat_values(outcome.pixels, chosen.heat, job.settings.spp);
   return overlays;
 }
 
@@ -118,6 +127,12 @@ constexpr size_t kMaxLegendRows = 12;
 
 void legend(const ShotJob& job, const Overlays& overlays) {
   for (const LineSet& set : overlays.lines) {
+    if (set.coverage.shown() < set.coverage.total()) {
+      // Wrapped at a fixed width: the window sizes itself to its content.
+      ImGui::PushTextWrapPos(ImGui::GetFontSize() * 24.0f);
+      ImGui::TextWrapped("%s", set.coverage.describe().c_str());
+      ImGui::PopTextWrapPos();
+    }
     const size_t shown = std::min(set.legend.size(), kMaxLegendRows);
     for (size_t i = 0; i < shown; ++i) legend_row(set.legend[i].color, set.legend[i].label);
     if (set.legend.size() > shown) ImGui::Text("... %zu more", set.legend.size() - shown);

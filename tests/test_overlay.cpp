@@ -3,13 +3,17 @@
 // from the parent's box, depths from the plane equation, totals from the run's counters.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <set>
 
 #include "core/accel/brute.h"
 #include "core/accel/grid1d/grid1d.h"
+#include "core/base/error.h"
 #include "core/render/overlay.h"
 #include "core/render/render.h"
 #include "tests/test_util.h"
@@ -85,10 +89,12 @@ TEST_F(Overlay, CellLinesHaveTheRootBoxAndFourEdgesPerInnerWall) {
   for (uint32_t id = 0; id < grid.voxel_count(); ++id)
     if (is_split(grid, id)) expected += 4 * (grid.voxel(id).granularity - 1), ++splits;
   ASSERT_GT(splits, 10u) << "the scene should be cut at several levels";
+  ASSERT_LT(2 * expected, kMaxOverlaySegments) << "the default cap would cut this grid short";
   for (CellColoring coloring : {CellColoring::depth, CellColoring::axis}) {
     const LineSet lines = cell_lines(grid, coloring);
     EXPECT_EQ(lines.vertices.size(), 2 * expected);
-    for (const LineVertex& v : lines.vertices) EXPECT_EQ(v.color.a, 1.0f);
+    EXPECT_EQ(lines.coverage.shown(), (expected - 12) / 4);
+    EXPECT_EQ(lines.coverage.total(), (expected - 12) / 4);
   }
   // The first 12 segments are the root box's edges.
   double lo[3], hi[3];
@@ -120,14 +126,14 @@ TEST_F(Overlay, AxisColouredWallsLieOnTheirCutsPlanes) {
     }
   }
   const LineSet lines = cell_lines(grid, CellColoring::axis);
-  const glm::vec4 colors[3] = {legend_color(lines, "x"), legend_color(lines, "y"),
+  const glm::vec3 colors[3] = {legend_color(lines, "x"), legend_color(lines, "y"),
                                legend_color(lines, "z")};
   size_t walls_seen[3] = {0, 0, 0};
   for (size_t i = 24; i < lines.vertices.size(); ++i) {
     const LineVertex& v = lines.vertices[i];
     int axis = -1;
     for (int a = 0; a < 3; ++a)
-      if (v.color == colors[a]) axis = a;
+      if (glm::vec3(v.color) == colors[a]) axis = a;  // alpha fades with depth
     if (axis < 0) {
       ADD_FAILURE() << "vertex " << i << " has no axis colour";
       continue;
@@ -154,8 +160,8 @@ TEST_F(Overlay, DepthColouringCountsWallsPerDepth) {
   for (uint32_t d = 0; d <= max_depth; ++d)
     EXPECT_EQ(lines.legend[d + 1].label, "depth " + std::to_string(d));
   // The palette cycles, so count per distinct colour: every depth sharing it.
-  std::map<std::array<float, 4>, size_t> expected, seen;
-  auto key = [](glm::vec4 c) { return std::array<float, 4>{c.r, c.g, c.b, c.a}; };
+  std::map<std::array<float, 3>, size_t> expected, seen;  // alpha fades with depth
+  auto key = [](glm::vec4 c) { return std::array<float, 3>{c.r, c.g, c.b}; };
   for (const auto& [depth, segments] : segments_by_depth)
     expected[key(lines.legend[depth + 1].color)] += segments;
   for (size_t i = 24; i < lines.vertices.size(); i += 2) ++seen[key(lines.vertices[i].color)];
@@ -280,6 +286,268 @@ TEST(WalkLines, MissEndsWhereTheRayLeavesTheSceneBox) {
   const std::optional<Walk> outside = grid->record_walk(ray, *context);
   ASSERT_TRUE(outside);
   EXPECT_TRUE(walk_lines(*outside).vertices.empty());
+}
+
+// Walls (inner walls of subdivided voxels) per depth, counted by id order through family().
+std::vector<uint64_t> walls_by_depth(const Grid1D& grid) {
+  const Family f = family(grid);
+  std::vector<uint64_t> walls;
+  for (uint32_t id = 0; id < grid.voxel_count(); ++id) {
+    if (!is_split(grid, id)) continue;
+    walls.resize(std::max<size_t>(walls.size(), f.depth[id] + 1), 0);
+    walls[f.depth[id]] += grid.voxel(id).granularity - 1;
+  }
+  return walls;
+}
+
+constexpr size_t kNoCap = std::numeric_limits<size_t>::max();
+
+TEST_F(Overlay, DepthRangeKeepsOnlyItsLevels) {
+  const Grid1D& grid = *grid_;
+  const Family f = family(grid);
+  const std::vector<uint64_t> walls = walls_by_depth(grid);
+  ASSERT_GE(walls.size(), 4u) << "the grid should have several levels";
+  const uint32_t deepest = uint32_t(walls.size() - 1);
+  for (const DepthRange range : {DepthRange{0, 0}, DepthRange{1, 2}, DepthRange{2, deepest}}) {
+    SCOPED_TRACE(std::to_string(range.first) + "-" + std::to_string(range.last));
+    uint64_t expected_walls = 0, expected_voxels = 0;
+    for (uint32_t id = 0; id < grid.voxel_count(); ++id)
+      if (is_split(grid, id) && range.contains(f.depth[id]))
+        expected_walls += grid.voxel(id).granularity - 1, ++expected_voxels;
+    const VoxelFilter filter{.depths = range, .max_segments = kNoCap};
+    const LineSet cells = cell_lines(grid, CellColoring::depth, filter);
+    EXPECT_EQ(cells.coverage.total(), expected_walls);
+    EXPECT_EQ(cells.vertices.size(), 2 * (12 + 4 * expected_walls));
+    // The legend names the range's levels only (after the scene box).
+    ASSERT_EQ(cells.legend.size(), 1 + range.last - range.first + 1);
+    EXPECT_EQ(cells.legend[1].label, "depth " + std::to_string(range.first));
+    const LineSet states = state_lines(grid, filter);
+    EXPECT_EQ(states.coverage.total(), expected_voxels);
+    EXPECT_EQ(states.vertices.size(), 24 * expected_voxels);
+  }
+}
+
+TEST_F(Overlay, NearWalkDrawsOnlyTheVoxelsTheWalkCrossed) {
+  const Grid1D& grid = *grid_;
+  const Family f = family(grid);
+  auto context = grid.make_context();
+  Ray ray;
+  ray.origin = {-5.0f, 0.3f, -0.2f};
+  ray.dir = {1.0f, 0.05f, 0.02f};
+  const std::optional<Walk> walk = grid.record_walk(ray, *context);
+  ASSERT_TRUE(walk && walk->cells.size() > 1);
+  // The walk's voxels: its cells' ancestors, climbed through the parent links.
+  std::set<uint32_t> crossed;
+  for (const WalkCell& cell : walk->cells)
+    for (uint32_t up = f.parent[cell.voxel]; up != Grid1D::kNone; up = f.parent[up])
+      crossed.insert(up);
+  uint64_t splits = 0, expected_walls = 0;
+  for (uint32_t id = 0; id < grid.voxel_count(); ++id) splits += is_split(grid, id);
+  for (uint32_t id : crossed) expected_walls += grid.voxel(id).granularity - 1;
+  ASSERT_GT(crossed.size(), 1u);
+  ASSERT_LT(crossed.size() * 4, splits) << "the walk should cross few of the voxels";
+
+  const VoxelFilter filter{.near_walk = true, .walk = &*walk, .max_segments = kNoCap};
+  const LineSet cells = cell_lines(grid, CellColoring::axis, filter);
+  EXPECT_EQ(cells.coverage.total(), expected_walls);
+  ASSERT_EQ(cells.vertices.size(), 2 * (12 + 4 * expected_walls));
+  // Every wall segment lies in (on the boundary of or inside) a crossed voxel's box.
+  const auto inside = [&](uint32_t id, glm::vec3 p) {
+    double lo[3], hi[3];
+    grid.voxel_box(id, lo, hi);
+    for (int a = 0; a < 3; ++a)
+      if (p[a] < float(lo[a]) || p[a] > float(hi[a])) return false;
+    return true;
+  };
+  for (size_t i = 24; i < cells.vertices.size(); i += 2) {
+    const glm::vec3 a = cells.vertices[i].position, b = cells.vertices[i + 1].position;
+    EXPECT_TRUE(std::any_of(crossed.begin(), crossed.end(),
+                            [&](uint32_t id) { return inside(id, a) && inside(id, b); }))
+        << "segment " << i / 2 << " outside every crossed voxel";
+  }
+  // States: exactly the crossed voxels' boxes, each corner a corner of one of them; the
+  // legend names their states only.
+  const LineSet states = state_lines(grid, filter);
+  ASSERT_EQ(states.vertices.size(), 24 * crossed.size());
+  std::set<uint32_t> crossed_states;
+  for (uint32_t id : crossed) crossed_states.insert(grid.voxel(id).state);
+  EXPECT_EQ(states.legend.size(), crossed_states.size());
+  for (size_t box = 0; box < crossed.size(); ++box) {
+    const glm::vec3 corner = states.vertices[24 * box].position;
+    EXPECT_TRUE(std::any_of(crossed.begin(), crossed.end(),
+                            [&](uint32_t id) {
+                              double lo[3], hi[3];
+                              grid.voxel_box(id, lo, hi);
+                              return corner == glm::vec3(float(lo[0]), float(lo[1]), float(lo[2]));
+                            }))
+        << "box " << box;
+  }
+  // No walk picked: nothing at all, not even the scene box.
+  const LineSet none = cell_lines(grid, CellColoring::axis, {.near_walk = true});
+  EXPECT_TRUE(none.vertices.empty());
+  EXPECT_EQ(none.coverage.total(), 0u);
+  EXPECT_EQ(none.coverage.describe(), "cells: no walls");
+}
+
+// "12,345": written here independently of the overlay's own formatting.
+std::string grouped(uint64_t n) {
+  if (n < 1000) return std::to_string(n);
+  char rest[8];
+  std::snprintf(rest, sizeof rest, ",%03u", unsigned(n % 1000));
+  return grouped(n / 1000) + rest;
+}
+
+TEST_F(Overlay, CapKeepsShallowLevelsWholeAndSaysWhatWasLeftOut) {
+  const Grid1D& grid = *grid_;
+  const std::vector<uint64_t> walls = walls_by_depth(grid);
+  ASSERT_GE(walls.size(), 5u);
+  ASSERT_GE(walls[2], 2u);
+  // Room for the scene box, levels 0 and 1 and half of level 2.
+  const uint64_t half = walls[2] / 2, shown = walls[0] + walls[1] + half;
+  const size_t cap = 12 + 4 * shown;
+  const LineSet lines = cell_lines(grid, CellColoring::depth, {.max_segments = cap + 3});
+  EXPECT_LE(lines.vertices.size() / 2, cap + 3);
+  EXPECT_EQ(lines.vertices.size() / 2, cap);
+  const Coverage& c = lines.coverage;
+  uint64_t total = 0;
+  for (const uint64_t w : walls) total += w;
+  EXPECT_EQ(c.shown(), shown);
+  EXPECT_EQ(c.total(), total);
+  ASSERT_EQ(c.shown_by_depth.size(), walls.size());
+  EXPECT_EQ(c.shown_by_depth[2], half);
+  EXPECT_EQ(c.shown_by_depth[3], 0u);
+  const std::string deepest = std::to_string(walls.size() - 1);
+  EXPECT_EQ(c.describe(), "cells: showing " + grouped(shown) + " of " + grouped(total) +
+                              " walls: levels 0-1 complete, level 2 partly, levels 3-" + deepest +
+                              " left out; narrow the depth range or use near-walk");
+  // Uncapped: every wall, and the note only counts them.
+  const LineSet all = cell_lines(grid, CellColoring::depth, {.max_segments = kNoCap});
+  EXPECT_EQ(all.coverage.describe(), "cells: " + grouped(total) + " walls, levels 0-" + deepest);
+  // States are capped by whole boxes (12 lines).
+  const LineSet states = state_lines(grid, {.max_segments = 12 * 5 + 11});
+  EXPECT_EQ(states.vertices.size(), 24u * 5);
+  EXPECT_EQ(states.coverage.shown(), 5u);
+}
+
+TEST_F(Overlay, LinesFadeWithDepth) {
+  for (uint32_t first : {0u, 3u}) {
+    EXPECT_EQ(alpha_for_depth(first, first), 1.0f);
+    EXPECT_LT(alpha_for_depth(first + 1, first), 1.0f);
+    for (uint32_t d = first; d < uint32_t(kMaxDepth); ++d) {
+      EXPECT_LE(alpha_for_depth(d + 1, first), alpha_for_depth(d, first)) << d;
+      EXPECT_GT(alpha_for_depth(d + 1, first), 0.0f) << d;
+    }
+  }
+  // In the drawn lines: each level's walls carry that level's alpha (levels 0-5 have
+  // distinct palette colours), and it falls level by level.
+  const LineSet lines = cell_lines(*grid_, CellColoring::depth, {.max_segments = kNoCap});
+  float previous = 2.0f;
+  for (uint32_t d = 0; d < 6 && d + 1 < lines.legend.size(); ++d) {
+    const glm::vec3 rgb = lines.legend[d + 1].color;
+    std::set<float> alphas;
+    for (size_t i = 24; i < lines.vertices.size(); ++i)
+      if (glm::vec3(lines.vertices[i].color) == rgb) alphas.insert(lines.vertices[i].color.a);
+    ASSERT_EQ(alphas.size(), 1u) << "depth " << d;
+    EXPECT_EQ(*alphas.begin(), alpha_for_depth(d, 0));
+    EXPECT_LE(*alphas.begin(), previous);
+    previous = *alphas.begin();
+  }
+}
+
+// `color` at opacity `alpha` over a grey of `grey` (0..255), as 8-bit RGB.
+std::array<unsigned char, 3> over_grey(glm::vec4 color, float alpha, int grey) {
+  std::array<unsigned char, 3> rgb;
+  for (int c = 0; c < 3; ++c)
+    rgb[c] = (unsigned char)std::lround(alpha * 255.0f * color[c] + (1.0f - alpha) * grey);
+  return rgb;
+}
+
+// The pixel tests (test_shot, test_view) count walk-coloured pixels: the walk's colour must
+// pass their test, and no structure colour, at any opacity over any grey shading.
+TEST_F(Overlay, TheWalksColourIsNoStructureColour) {
+  EXPECT_TRUE(test::walk_coloured(over_grey(kWalkColor, 1.0f, 0).data()));
+  for (const LineSet& set : {cell_lines(*grid_, CellColoring::depth),
+                             cell_lines(*grid_, CellColoring::axis), state_lines(*grid_)}) {
+    EXPECT_FALSE(set.emphasised);
+    for (const LegendEntry& e : set.legend)
+      for (const float alpha : {0.1f, 0.3f, 0.6f, 1.0f})
+        for (const int grey : {0, 60, 128, 200, 255})
+          EXPECT_FALSE(test::walk_coloured(over_grey(e.color, alpha, grey).data()))
+              << e.label << " alpha " << alpha << " over " << grey;
+  }
+}
+
+TEST_F(Overlay, WalkIsEmphasisedWithItsCurrentCellFilled) {
+  auto context = grid_->make_context();
+  Ray ray;
+  ray.origin = {-5.0f, 0.1f, 0.2f};
+  ray.dir = {2.0f, 0.01f, -0.02f};
+  const std::optional<Walk> walk = grid_->record_walk(ray, *context);
+  ASSERT_TRUE(walk && walk->cells.size() > 1);
+  const LineSet lines = walk_lines(*walk, 1);
+  EXPECT_TRUE(lines.emphasised);
+  EXPECT_EQ(glm::vec3(lines.vertices[0].color), glm::vec3(kWalkColor));
+  ASSERT_EQ(lines.fill.size(), 36u);  // six faces, two triangles each
+  const WalkCell& cell = walk->cells[1];
+  for (const LineVertex& v : lines.fill) {
+    EXPECT_EQ(glm::vec3(v.color), glm::vec3(kWalkColor));
+    EXPECT_GT(v.color.a, 0.0f);
+    EXPECT_LT(v.color.a, 1.0f);  // translucent
+    for (int a = 0; a < 3; ++a)
+      EXPECT_TRUE(v.position[a] == float(cell.lo[a]) || v.position[a] == float(cell.hi[a]));
+  }
+  EXPECT_TRUE(walk_lines(*walk).fill.empty());  // no current cell, nothing filled
+}
+
+TEST(ParseOverlays, AcceptsTheListWords) {
+  const OverlaySelection s = parse_overlays("cells,walk,depth:1-3,near-walk");
+  EXPECT_TRUE(s.cells && s.walk && s.near_walk && !s.states);
+  EXPECT_EQ(s.depths.first, 1u);
+  EXPECT_EQ(s.depths.last, 3u);
+  EXPECT_EQ(s.heat, HeatKind::none);
+  const OverlaySelection single = parse_overlays("depth:2,states,heat:tests");
+  EXPECT_EQ(single.depths.first, 2u);
+  EXPECT_EQ(single.depths.last, 2u);
+  EXPECT_EQ(single.heat, HeatKind::tests);
+  const OverlaySelection plain = parse_overlays("cells");
+  EXPECT_TRUE(plain.depths.everything());
+  EXPECT_FALSE(plain.near_walk);
+  EXPECT_EQ(parse_overlays("cells,depth:0-64").depths.last, 64u);
+  // format_overlays writes what parse_overlays reads back.
+  for (const std::string list :
+       {"cells,walk,near-walk,depth:1-3", "states,depth:2-2,heat:built", "walk", "cells,states"})
+    EXPECT_EQ(format_overlays(parse_overlays(list)), list);
+  // A filter left on with nothing to filter (the panel's cells unticked) is not written.
+  OverlaySelection unticked = parse_overlays("cells,walk,near-walk,depth:2-4");
+  unticked.cells = false;
+  EXPECT_EQ(format_overlays(unticked), "walk");
+}
+
+TEST(ParseOverlays, RejectsBadListsNamingTheProblem) {
+  const std::pair<std::string, std::string> cases[] = {{"cells,depth:3-1", "0 <= A <= B"},
+                                                       {"cells,depth:-1-2", "0 <= A <= B"},
+                                                       {"cells,depth:1-", "0 <= A <= B"},
+                                                       {"cells,depth:a-b", "0 <= A <= B"},
+                                                       {"cells,depth:", "0 <= A <= B"},
+                                                       {"cells,depth:1-65", "0 <= A <= B"},
+                                                       {"cells,depth:1-2,depth:3", "only one"},
+                                                       {"near-walk", "add cells or states"},
+                                                       {"walk,depth:1-2", "add cells or states"},
+                                                       {"cells,bogus", "unknown overlay 'bogus'"},
+                                                       {"cells,,walk", "unknown overlay ''"},
+                                                       {"heat:steps,heat:built", "only one heat"},
+                                                       {"", "unknown overlay ''"}};
+  for (const auto& [list, problem] : cases) {
+    try {
+      parse_overlays(list);
+      ADD_FAILURE() << "'" << list << "' accepted";
+    } catch (const UsageError& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find("--overlay '" + list + "'"), std::string::npos) << message;
+      EXPECT_NE(message.find(problem), std::string::npos) << message;
+      EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    }
+  }
 }
 
 void expect_rgb_near(std::array<uint8_t, 3> got, std::array<int, 3> want, int tolerance) {

@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <functional>
+#include <limits>
 #include <thread>
 
 #include "core/accel/grid1d/grid1d.h"
@@ -322,7 +323,8 @@ TEST(Progressive, StructureVisitsPauseTheWorkers) {
       if (grid->voxel(id).status.load(std::memory_order_acquire) == Grid1D::kSplit)
         expected += 4 * (grid->voxel(id).granularity - 1), ++splits;
     EXPECT_GT(splits, 0u);
-    const LineSet lines = cell_lines(*grid, CellColoring::depth);
+    const LineSet lines = cell_lines(*grid, CellColoring::depth,
+                                     {.max_segments = std::numeric_limits<size_t>::max()});
     EXPECT_EQ(lines.vertices.size(), 2 * expected);
   };
   renderer.with_structure_paused(visit);

@@ -349,4 +349,60 @@ TEST(Compare, TotalsReadRunStatsAndLeaveUnmeasuredFiguresOut) {
       << table;
 }
 
+// Lumpy's close-up, as the viewer starts: the centre pixel's ray hits the teapot.
+const std::string kLumpyCloseUp =
+    "builtin:lumpy --size 400x250 --camera 'eye=3.2,-4.2,2.2;target=0,0,0.35;up=0,0,1;fov=40'";
+
+// 3x3 blocks wholly in the walk's colour: a line one pixel wide never fills one.
+int solid_walk_blocks(const Png& png) {
+  int blocks = 0;
+  for (int y = 1; y + 1 < png.height; ++y)
+    for (int x = 1; x + 1 < png.width; ++x) {
+      bool solid = true;
+      for (int dy = -1; dy <= 1 && solid; ++dy)
+        for (int dx = -1; dx <= 1 && solid; ++dx)
+          solid = gs::test::walk_coloured(png.at(x + dx, y + dy));
+      blocks += solid;
+    }
+  return blocks;
+}
+
+TEST(Shot, WalkIsDrawnThickInItsOwnColourOverTheCellsItCrossed) {
+  const Png cells = image_of("shot", "lumpy_cells.png", kLumpyCloseUp + " --overlay cells");
+  const Png walk =
+      image_of("shot", "lumpy_walk.png", kLumpyCloseUp + " --overlay cells,walk,near-walk");
+  ASSERT_EQ(walk.width, 400);
+  EXPECT_EQ(gs::test::walk_pixels(cells), 0);
+  EXPECT_GT(gs::test::walk_pixels(walk), 100);
+  EXPECT_GT(solid_walk_blocks(walk), 0);
+  // Near the walk, only what it crossed: far fewer pixels changed than with every wall.
+  const Png plain = image_of("shot", "lumpy_plain.png", kLumpyCloseUp);
+  int changed_by_cells = 0, changed_near_walk = 0;
+  for (int y = 0; y < plain.height; ++y)
+    for (int x = 0; x < plain.width; ++x) {
+      changed_by_cells += !same_at(cells, plain, x, y);
+      changed_near_walk += !same_at(walk, plain, x, y) && !gs::test::walk_coloured(walk.at(x, y));
+    }
+  EXPECT_LT(changed_near_walk * 3, changed_by_cells);
+}
+
+TEST(Shot, CellsNoteSaysWhatTheCapLeftOutAndTheDepthRangeNarrowsIt) {
+  const std::string out = " --out '" + temp_path("note.png") + "'";
+  const Outcome all = run("shot " + kLumpyCloseUp + " --overlay cells" + out);
+  ASSERT_EQ(all.status, 0) << all.err;
+  // Lumpy has far more walls than the cap: the shallow levels are kept.
+  EXPECT_NE(all.err.find("gridscope shot: cells: showing "), std::string::npos) << all.err;
+  EXPECT_NE(all.err.find(" walls: levels 0-"), std::string::npos) << all.err;
+  EXPECT_NE(all.err.find("left out; narrow the depth range or use near-walk"), std::string::npos)
+      << all.err;
+  const Outcome shallow = run("shot " + kLumpyCloseUp + " --overlay cells,depth:0-1" + out);
+  ASSERT_EQ(shallow.status, 0) << shallow.err;
+  EXPECT_NE(shallow.err.find("walls, levels 0-1\n"), std::string::npos) << shallow.err;
+  EXPECT_EQ(shallow.err.find("showing"), std::string::npos) << shallow.err;
+  const Outcome reversed = run("shot " + kLumpyCloseUp + " --overlay cells,depth:3-1" + out);
+  EXPECT_EQ(reversed.status, 2) << reversed.err;
+  EXPECT_NE(reversed.err.find("depth:3-1"), std::string::npos) << reversed.err;
+  EXPECT_EQ(std::count(reversed.err.begin(), reversed.err.end(), '\n'), 1) << reversed.err;
+}
+
 }  // namespace

@@ -76,6 +76,17 @@ Png load_png(const std::string& path) {
   return png;
 }
 
+bool walk_coloured(const unsigned char* rgba) {
+  const int r = rgba[0], g = rgba[1], b = rgba[2];
+  return r > 150 && b > 125 && g < std::min(r, b) - 64;
+}
+
+int walk_pixels(const Png& png) {
+  int count = 0;
+  for (size_t i = 0; i < png.rgba.size(); i += 4) count += walk_coloured(&png.rgba[i]);
+  return count;
+}
+
 std::string write_temp_file(const std::string& name, const std::string& bytes) {
   const std::string path = temp_path(name);
   std::ofstream(path, std::ios::binary) << bytes;

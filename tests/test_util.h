@@ -50,6 +50,12 @@ struct Png {
   const unsigned char* at(int x, int y) const { return &rgba[(size_t(y) * width + x) * 4]; }
 };
 Png load_png(const std::string& path);
+// Whether a pixel has the walk overlay's magenta (kWalkColor in core/render/overlay.h): red
+// and blue high, green well below both. Grey shading and the structure overlays' colours,
+// blended over it or not, never have.
+bool walk_coloured(const unsigned char* rgba);
+// How many of the PNG's pixels have it.
+int walk_pixels(const Png& png);
 
 // `bytes` written to temp_path(name); returns that path.
 std::string write_temp_file(const std::string& name, const std::string& bytes);

@@ -619,4 +619,46 @@ TEST(View, ALongBuildShowsTheProgressBarAndItsFiguresAreTheStructures) {
     EXPECT_LE(shown.at(figure).get<uint64_t>(), ended.at(figure).get<uint64_t>()) << figure;
 }
 
+// Lumpy's close-up, the viewer's default, clicked in the middle: the walk shows in its own
+// colour over the walls of the voxels it crossed (the default overlays), and the log says
+// how many walls that is. A script's `set overlay` with a depth range replaces them and the
+// log reports the range; without a click there is no walk to draw.
+TEST(View, DefaultViewShowsTheClickedWalkAndScriptsSetOverlays) {
+  if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed: the viewer needs a display";
+  const std::string shot = temp_path("view_default_walk.png");
+  const Outcome view =
+      run_in_xvfb("view --size 960x640 --frames 10 --click 0.5,0.5 --screenshot '" + shot + "'");
+  ASSERT_EQ(view.status, 0) << view.err;
+  EXPECT_GT(gs::test::walk_pixels(gs::test::load_png(shot)), 100);
+  EXPECT_NE(view.err.find("gridscope view: overlays: cells: "), std::string::npos) << view.err;
+  EXPECT_EQ(view.err.find("showing"), std::string::npos) << "near the walk, nothing capped";
+
+  const std::string script =
+      script_file("overlay_depth.txt", "frame 1: set overlay cells,depth:1-2\n");
+  const std::string ranged = temp_path("view_depth_walk.png");
+  const Outcome set = run_in_xvfb("view --size 960x640 --frames 10 --click 0.5,0.5 --script '" +
+                                  script + "' --screenshot '" + ranged + "'");
+  ASSERT_EQ(set.status, 0) << set.err;
+  EXPECT_NE(set.err.find("walls, levels 1-2"), std::string::npos) << set.err;
+  EXPECT_GT(gs::test::walk_pixels(gs::test::load_png(ranged)), 100);  // a click shows the walk
+
+  const std::string unclicked = temp_path("view_depth_nowalk.png");
+  const Outcome no_click = run_in_xvfb("view --size 960x640 --frames 10 --script '" + script +
+                                       "' --screenshot '" + unclicked + "'");
+  ASSERT_EQ(no_click.status, 0) << no_click.err;
+  EXPECT_EQ(gs::test::walk_pixels(gs::test::load_png(unclicked)), 0);
+}
+
+TEST(View, BadOverlayStepsExitOneNamingTheLine) {
+  for (const std::string line :
+       {"frame 2: set overlay cells,depth:3-1", "frame 2: set overlay near-walk",
+        "frame 2: set overlay cells,bogus"}) {
+    const std::string script = script_file("bad_overlay.txt", "# fine\n\n" + line + "\n");
+    const Outcome bad = run("view builtin:pyramid --script '" + script + "'");
+    EXPECT_EQ(bad.status, 1) << line;
+    EXPECT_NE(bad.err.find(script + ":3: set overlay '"), std::string::npos)
+        << line << ": " << bad.err;
+  }
+}
+
 }  // namespace

@@ -24,6 +24,10 @@ namespace {
 constexpr float kLineDepthBias = 0.002f;
 // The near plane never comes closer than this fraction of the far one (depth precision).
 constexpr float kMinNearFraction = 1e-4f;
+// Thin lines at the far end of the scene box keep this fraction of their opacity.
+constexpr float kFarLineAlpha = 0.3f;
+// Emphasised lines (the walk), in framebuffer pixels.
+constexpr float kThickLineWidth = 3.0f;
 
 void set_texture_sampling(GLuint texture) {
   glBindTexture(GL_TEXTURE_2D, texture);
@@ -31,6 +35,52 @@ void set_texture_sampling(GLuint texture) {
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+}
+
+// Where `p` lands in clip space, pulled toward the eye as lines.vert pulls it.
+glm::vec4 to_clip(const glm::mat4& view, const glm::mat4& projection, glm::vec3 p) {
+  glm::vec4 eye_space = view * glm::vec4(p, 1.0f);
+  eye_space = glm::vec4(glm::vec3(eye_space) * (1.0f - kLineDepthBias), 1.0f);
+  return projection * eye_space;
+}
+
+// Cuts the clip-space segment a-b at the near plane (z = -w); false when it lies wholly in
+// front of it. A walk's ray starts at the eye, where w is 0 and no division is possible.
+bool clip_to_near(glm::vec4& a, glm::vec4& b) {
+  const float da = a.z + a.w, db = b.z + b.w;  // >= 0 beyond the near plane
+  if (da < 0.0f && db < 0.0f) return false;
+  if (da < 0.0f) a = glm::mix(a, b, da / (da - db));
+  if (db < 0.0f) b = glm::mix(b, a, db / (db - da));
+  return true;
+}
+
+// The segments as quads `width` pixels wide in normalised device coordinates (two triangles
+// each, lengthened by half the width so that box corners close): GL 3.3 core profiles need
+// not draw lines wider than one pixel (glLineWidth), and Mesa's do not.
+std::vector<LineVertex> thick_quads(std::span<const LineVertex> segments, const glm::mat4& view,
+                                    const glm::mat4& projection, glm::vec2 viewport_size,
+                                    float width) {
+  std::vector<LineVertex> quads;
+  const glm::vec2 ndc_per_pixel = 2.0f / viewport_size;
+  for (size_t i = 0; i + 1 < segments.size(); i += 2) {
+    glm::vec4 a = to_clip(view, projection, segments[i].position);
+    glm::vec4 b = to_clip(view, projection, segments[i + 1].position);
+    if (!clip_to_near(a, b)) continue;
+    const glm::vec3 na = glm::vec3(a) / a.w, nb = glm::vec3(b) / b.w;
+    glm::vec2 along = (glm::vec2(nb) - glm::vec2(na)) / ndc_per_pixel;  // in pixels
+    const float length = glm::length(along);
+    along = length > 1e-6f ? along / length : glm::vec2(1.0f, 0.0f);
+    const glm::vec2 half_along = along * (0.5f * width) * ndc_per_pixel;
+    const glm::vec2 half_across = glm::vec2(-along.y, along.x) * (0.5f * width) * ndc_per_pixel;
+    const glm::vec3 corners[4] = {glm::vec3(glm::vec2(na) - half_along - half_across, na.z),
+                                  glm::vec3(glm::vec2(na) - half_along + half_across, na.z),
+                                  glm::vec3(glm::vec2(nb) + half_along + half_across, nb.z),
+                                  glm::vec3(glm::vec2(nb) + half_along - half_across, nb.z)};
+    const glm::vec4 colours[4] = {segments[i].color, segments[i].color, segments[i + 1].color,
+                                  segments[i + 1].color};
+    for (const int k : {0, 1, 2, 0, 2, 3}) quads.push_back({corners[k], colours[k]});
+  }
+  return quads;
 }
 
 }  // namespace
@@ -102,7 +152,7 @@ void FrameRenderer::draw(int viewport_width, int viewport_height, const FrameInp
   glClearDepth(1.0);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   draw_image(viewport_width, viewport_height, input, projection, range);
-  draw_lines(input, projection);
+  draw_lines(input, projection, range, glm::vec2(viewport_width, viewport_height));
 }
 
 // The image as a full-viewport triangle; its fragments write the depth of their pixel's
@@ -137,30 +187,55 @@ void FrameRenderer::draw_image(int viewport_width, int viewport_height, const Fr
   glActiveTexture(GL_TEXTURE0);
 }
 
-void FrameRenderer::draw_lines(const FrameInput& input, const glm::mat4& projection) {
-  std::vector<LineVertex> vertices;
-  for (const LineSet& set : input.lines)
-    vertices.insert(vertices.end(), set.vertices.begin(),
-                    set.vertices.end() - set.vertices.size() % 2);
+// Thin sets first, fading with distance; then the emphasised ones (the walk) over them at
+// full strength: fills, then thick lines. All depth-tested against the image only (no depth
+// writes), so that lines never hide one another.
+void FrameRenderer::draw_lines(const FrameInput& input, const glm::mat4& projection,
+                               const ClipRange& range, glm::vec2 viewport_size) {
+  std::vector<LineVertex> thin, fill, thick;
+  for (const LineSet& set : input.lines) {
+    std::vector<LineVertex>& into = set.emphasised ? thick : thin;
+    into.insert(into.end(), set.vertices.begin(), set.vertices.end() - set.vertices.size() % 2);
+    fill.insert(fill.end(), set.fill.begin(), set.fill.end() - set.fill.size() % 3);
+  }
+  const glm::mat4 view = view_matrix(input.camera);
+  const Program& program = *lines_program_;
+  glUseProgram(program.id());
+  const auto set_transform = [&](const glm::mat4& v, const glm::mat4& p, float bias) {
+    glUniformMatrix4fv(program.uniform("view"), 1, GL_FALSE, glm::value_ptr(v));
+    glUniformMatrix4fv(program.uniform("projection"), 1, GL_FALSE, glm::value_ptr(p));
+    glUniform1f(program.uniform("depth_bias"), bias);
+  };
+  set_transform(view, projection, kLineDepthBias);
+  glUniform1f(program.uniform("fade_start"), range.near_distance);
+  glUniform1f(program.uniform("fade_end"), range.far_distance);
+  glUniform1f(program.uniform("far_alpha"), kFarLineAlpha);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_FALSE);
+  glEnable(GL_BLEND);
+  glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  draw_vertices(thin, GL_LINES);
+  glUniform1f(program.uniform("far_alpha"), 1.0f);
+  draw_vertices(fill, GL_TRIANGLES);
+  // The thick quads are already in device coordinates (thick_quads applies the bias).
+  const std::vector<LineVertex> quads =
+      thick_quads(thick, view, projection, viewport_size, kThickLineWidth);
+  set_transform(glm::mat4(1.0f), glm::mat4(1.0f), 0.0f);
+  draw_vertices(quads, GL_TRIANGLES);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
+  glDisable(GL_DEPTH_TEST);
+  glBindVertexArray(0);
+}
+
+void FrameRenderer::draw_vertices(std::span<const LineVertex> vertices, unsigned mode) {
   if (vertices.empty()) return;
   glBindVertexArray(lines_vao_);
   glBindBuffer(GL_ARRAY_BUFFER, lines_vbo_);
   glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(LineVertex)), vertices.data(),
                GL_STREAM_DRAW);
-  const Program& program = *lines_program_;
-  glUseProgram(program.id());
-  const glm::mat4 view = view_matrix(input.camera);
-  glUniformMatrix4fv(program.uniform("view"), 1, GL_FALSE, glm::value_ptr(view));
-  glUniformMatrix4fv(program.uniform("projection"), 1, GL_FALSE, glm::value_ptr(projection));
-  glUniform1f(program.uniform("depth_bias"), kLineDepthBias);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glEnable(GL_BLEND);
-  glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-  glDrawArrays(GL_LINES, 0, GLsizei(vertices.size()));
-  glDisable(GL_BLEND);
-  glDisable(GL_DEPTH_TEST);
-  glBindVertexArray(0);
+  glDrawArrays(GLenum(mode), 0, GLsizei(vertices.size()));
 }
 
 std::vector<uint8_t> read_pixels(int width, int height) {

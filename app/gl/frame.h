@@ -5,12 +5,13 @@
 #pragma once
 #include <cstdint>
 #include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
 #include <memory>
 #include <span>
 #include <vector>
 
-#include "core/scene/camera.h"
 #include "core/render/overlay.h"
+#include "core/scene/camera.h"
 #include "core/scene/scene.h"
 
 namespace gs::gl {
@@ -37,8 +38,8 @@ struct FrameInput {
   std::span<const float> distance;  // per pixel along camera.forward(), +inf for background;
                                     // empty: no depth, lines are drawn over everything
   Camera camera;
-  Box scene_box;  // chooses the near and far planes
-  std::span<const LineSet> lines;
+  Box scene_box;                   // chooses the near and far planes
+  std::span<const LineSet> lines;  // emphasised sets are drawn after the others
 };
 
 class FrameRenderer {
@@ -55,7 +56,10 @@ class FrameRenderer {
  private:
   void draw_image(int viewport_width, int viewport_height, const FrameInput& input,
                   const glm::mat4& projection, const ClipRange& range);
-  void draw_lines(const FrameInput& input, const glm::mat4& projection);
+  void draw_lines(const FrameInput& input, const glm::mat4& projection, const ClipRange& range,
+                  glm::vec2 viewport_size);
+  // Sends `vertices` through the lines program as `mode` primitives.
+  void draw_vertices(std::span<const LineVertex> vertices, unsigned mode);
 
   std::unique_ptr<Program> image_program_, lines_program_;
   unsigned empty_vao_ = 0, lines_vao_ = 0, lines_vbo_ = 0;

@@ -3,6 +3,7 @@
 // while the workers are paused; and the heatmap image of the shown frame.
 #pragma once
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "core/base/timing.h"
@@ -44,7 +45,8 @@ class OverlayCache {
  public:
   // Reading the structure pauses the workers, so it is read again only when the overlays are
   // stale (a toggle, a pick, a new structure) or a few times a second while it grows. Also
-  // sets the picked walk's cost.
+  // sets the picked walk's cost. Cells and states are filtered as state.overlays says (depth
+  // range, near the picked walk) and capped at kMaxOverlaySegments each.
   void refresh(ViewState& state);
 
   const std::vector<LineSet>& structure_lines() const { return structure_lines_; }
@@ -54,12 +56,14 @@ class OverlayCache {
 
  private:
   void read_structure(ViewState& state, const Accelerator& accel);
+  void log_coverage();
 
   std::vector<LineSet> structure_lines_;
   std::vector<StateRow> states_;
   size_t nodes_built_ = 0;
   Clock::time_point read_time_{};
   uint64_t read_nodes_ = 0;  // the nodes the frame reported at that time
+  std::string logged_coverage_;
   HeatMap heat_;
 };
 

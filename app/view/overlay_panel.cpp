@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <string>
 
 #include "app/view/overlay_cache.h"
 #include "app/view/state.h"
@@ -14,6 +15,7 @@ namespace gs::app {
 namespace {
 
 const char* const kHeatNames[] = {"none", "steps", "tests", "built"};
+const ImVec4 kCappedNote(1.0f, 0.75f, 0.3f, 1.0f);  // amber: some lines were left out
 
 // The turbo bar from the range's low to its high end.
 void heat_legend(const HeatMap& heat) {
@@ -71,9 +73,46 @@ void heat_controls(ViewState& state, HeatMap& heat) {
   heat_under_cursor(state, heat);
 }
 
+// Which levels and which voxels cells and states show, and what the line cap left out.
+void structure_filter_controls(ViewState& state, const OverlayCache& overlays) {
+  OverlaySelection& shown = state.overlays;
+  if (!shown.cells && !shown.states) return;
+  bool changed = ImGui::Checkbox("near the walk", &shown.near_walk);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("only the voxels the clicked ray went through, with their walls");
+  int first = int(shown.depths.first), last = int(shown.depths.last);
+  // The range leaves room on its row for its label and the "all" button.
+  const ImGuiStyle& style = ImGui::GetStyle();
+  ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x - ImGui::CalcTextSize("levels").x -
+                          ImGui::CalcTextSize("all").x - 2 * style.FramePadding.x -
+                          style.ItemInnerSpacing.x - style.ItemSpacing.x);
+  if (ImGui::DragIntRange2("levels", &first, &last, 0.1f, 0, kMaxDepth)) {
+    shown.depths = {uint32_t(std::clamp(first, 0, kMaxDepth)),
+                    uint32_t(std::clamp(std::max(first, last), 0, kMaxDepth))};
+    changed = true;
+  }
+  ImGui::SameLine();
+  if (ImGui::SmallButton("all")) shown.depths = {}, changed = true;
+  if (changed) state.overlays_stale = true;
+  for (const LineSet& set : overlays.structure_lines()) {
+    const bool capped = set.coverage.shown() < set.coverage.total();
+    ImGui::PushStyleColor(ImGuiCol_Text,
+                          capped ? kCappedNote : ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+    ImGui::TextWrapped("%s", set.coverage.describe().c_str());
+    ImGui::PopStyleColor();
+  }
+  if (shown.near_walk && !state.picked.walk) ImGui::TextDisabled("click the image to pick a walk");
+}
+
 }  // namespace
 
-void overlay_controls(ViewState& state, HeatMap& heat) {
+void choose_overlays(ViewState& state, HeatMap& heat, const OverlaySelection& selection) {
+  state.overlays = selection;
+  heat.invalidate();
+  state.walk_changed();  // also marks the structure's overlays stale
+}
+
+void overlay_controls(ViewState& state, OverlayCache& overlays) {
   OverlaySelection& shown = state.overlays;
   bool changed = ImGui::Checkbox("cells", &shown.cells);
   ImGui::SameLine();
@@ -88,7 +127,10 @@ void overlay_controls(ViewState& state, HeatMap& heat) {
   changed |= ImGui::RadioButton("axis", &by_axis, 1);
   state.colour_by_axis = by_axis == 1;
   if (changed) state.overlays_stale = true;
-  heat_controls(state, heat);
+  structure_filter_controls(state, overlays);
+  heat_controls(state, overlays.heat());
+  const std::string list = format_overlays(shown);
+  ImGui::TextDisabled("as --overlay: %s", list.empty() ? "(none)" : list.c_str());
 }
 
 }  // namespace gs::app

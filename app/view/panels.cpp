@@ -104,7 +104,7 @@ void Panels::controls_panel(ViewState& state, const Rect& rect) {
   ImGui::Begin("controls", nullptr, kPanelFlags);
   const ImGuiTreeNodeFlags open = ImGuiTreeNodeFlags_DefaultOpen;
   if (ImGui::CollapsingHeader("structure", open)) structure_.controls(state);
-  if (ImGui::CollapsingHeader("overlays", open)) overlay_controls(state, overlays_.heat());
+  if (ImGui::CollapsingHeader("overlays", open)) overlay_controls(state, overlays_);
   if (ImGui::CollapsingHeader("A/B compare", open)) compare_.controls(state, overlays_.heat());
   if (ImGui::CollapsingHeader("camera", open)) camera_.controls(state);
   if (ImGui::CollapsingHeader("scene", open)) scene_.controls();

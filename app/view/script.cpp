@@ -15,6 +15,7 @@
 #include "app/view/state.h"
 #include "app/view/view.h"
 #include "core/base/error.h"
+#include "core/render/overlay.h"
 #include "core/render/render.h"
 
 namespace gs::app {
@@ -69,6 +70,10 @@ std::optional<std::array<int, 2>> window_size(const std::string& word) {
 
 // `set NAME VALUE`'s value, checked as the command line checks it; throws UsageError.
 void check_setting(const std::string& name, const std::string& value) {
+  if (name == "overlay") {
+    parse_overlays(value, "set overlay");
+    return;
+  }
   if (name == "compare") {
     if (value != "off") parse_compare(value);
     return;

@@ -23,9 +23,10 @@ struct ScriptStep {
   int frame = 1;
   Action action = Action::close;
   std::array<int, 2> size{0, 0};  // resize: the window's new size; 0x0 minimises it
-  std::string name;      // open: SCENE; set: `accel` or a structure flag's name; tab: the tab
-  std::string value;     // set: its value, as the command line takes it
-  float degrees = 0.0f;  // orbit: the turn about the pivot
+  std::string name;               // open: SCENE; set: `accel`, `packets`, `overlay`, `compare`,
+                                  // `compare-view` or a structure flag's name; tab: the tab
+  std::string value;              // set: its value, as the command line takes it
+  float degrees = 0.0f;           // orbit: the turn about the pivot
   Splitter splitter = Splitter::right;  // drag-splitter: which bar ...
   int pixels = 0;                       // ... and how far, right or down (window units)
 };
@@ -33,7 +34,9 @@ struct ScriptStep {
 // A --script file's steps, in frame order. One step a line, "frame N: ACTION" with ACTION
 // one of `resize WxH` (0x0: minimised), `open SCENE`, `set NAME VALUE` (NAME `accel` or a
 // structure flag without its dashes, e.g. `set max-granularity 8`, applied as the panel's
-// Apply does; `packets` with on or off, as the panel's checkbox; `compare SPEC` with SPEC's
+// Apply does; `packets` with on or off, as the panel's checkbox; `overlay` with a list as
+// --overlay takes it, e.g. `set overlay cells,walk,depth:1-3`, replacing the overlays shown;
+// `compare SPEC` with SPEC's
 // words joined by commas, or `compare off`, as the A/B section's buttons; `compare-view`
 // with split, a, b or difference), `orbit DEG` (turns the
 // camera about the pivot by DEG degrees, as a horizontal drag does), `drag-splitter right|bottom

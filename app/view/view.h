@@ -34,9 +34,11 @@ struct ViewJob {
   std::optional<std::array<double, 2>> click;  // fractions of the viewport
   std::string screenshot;                      // PNG of the whole window, just before exiting
   std::string walk_out;                        // the clicked pixel's walk as JSON
-  OverlaySelection overlays{.walk = true};     // shown at the start (--overlay)
-  std::string script;                          // --script FILE: steps, see parse_script
-  std::string stats;                           // --stats FILE.json: written on exit
+  // Shown at the start (--overlay): a clicked walk with the walls of the voxels it crossed,
+  // over an image otherwise left clear.
+  OverlaySelection overlays{.cells = true, .walk = true, .near_walk = true};
+  std::string script;  // --script FILE: steps, see parse_script
+  std::string stats;   // --stats FILE.json: written on exit
 };
 
 // X,Y: two numbers in 0..1. Throws UsageError otherwise.

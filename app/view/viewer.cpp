@@ -6,11 +6,13 @@
 #include <GLFW/glfw3.h>
 #include <imgui.h>
 
+#include <cfloat>
 #include <glm/trigonometric.hpp>
 #include <utility>
 
 #include "app/view/build_progress.h"
 #include "app/view/output.h"
+#include "app/view/overlay_panel.h"
 #include "core/render/camera_control.h"
 
 namespace gs::app {
@@ -80,7 +82,9 @@ void Viewer::run_step(const ScriptStep& step) {
       scene_.open(step.name);
       break;
     case ScriptStep::Action::set:
-      if (step.name == "compare")
+      if (step.name == "overlay")
+        choose_overlays(state_, overlays_.heat(), parse_overlays(step.value));
+      else if (step.name == "compare")
         compare_.set(state_, step.value);
       else if (step.name == "compare-view")
         compare_.set_mode(*compare_mode_named(step.value));  // checked by parse_script
@@ -114,6 +118,10 @@ void Viewer::take_frame() {
 
 void Viewer::draw_frame() {
   window_.begin_frame();
+  // A script drives the viewer without a person: the pointer is ignored, so wherever the
+  // display leaves it (Xvfb: its centre) it hovers no widget whose tooltip would cover the
+  // viewport in a screenshot.
+  if (script_.scripted()) ImGui::GetIO().MousePos = ImVec2(-FLT_MAX, -FLT_MAX);
   ImGui::NewFrame();
   build_ui();
   ImGui::Render();
