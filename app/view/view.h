@@ -7,8 +7,8 @@
 // The viewer's parts live beside this header: viewer.h (the frame loop), state.h (what the
 // parts share), script.h, camera_input.h, overlay_cache.h, layout.h and splitters.h (where
 // the viewport and panels go), viewport.h, panels.h and the sections they show
-// (structure_editor.h, overlay_panel.h, scene_opener.h, inspector.h with cost_chart.h,
-// states_table.h), help_overlay.h, output.h.
+// (structure_editor.h, overlay_panel.h, compare_view.h, scene_opener.h, inspector.h with
+// cost_chart.h, states_table.h), build_progress.h, help_overlay.h, output.h.
 #pragma once
 #include <array>
 #include <optional>
