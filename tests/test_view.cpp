@@ -661,4 +661,26 @@ TEST(View, BadOverlayStepsExitOneNamingTheLine) {
   }
 }
 
+TEST(View, LayoutFollowsScriptedResizesWithNothingClipped) {
+  if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed: the viewer needs a display";
+  // From the default 1280x800 down to the smallest supported window, or up to full HD, as a
+  // person dragging the window's corner would: the last frame's layout fits the new size.
+  for (const auto& [width, height] : {std::pair{1024, 640}, {1920, 1080}}) {
+    const std::string size = std::to_string(width) + "x" + std::to_string(height);
+    SCOPED_TRACE(size);
+    const std::string stats = temp_path("resized_layout.json");
+    const std::string script =
+        script_file("resize_layout.txt", "frame 3: resize " + size + "\nframe 4: wait\n");
+    const Outcome view = run_in_xvfb(
+        "view builtin:pyramid --frames 6 --script '" + script + "' --stats '" + stats + "'", "",
+        "1920x1080x24");
+    ASSERT_EQ(view.status, 0) << view.err;
+    const nlohmann::json layout = read_json(stats).at("layout");
+    EXPECT_EQ(layout.at("display").at("w"), width);
+    EXPECT_EQ(layout.at("display").at("h"), height);
+    expect_nothing_clipped(layout);
+    expect_tiled(layout);
+  }
+}
+
 }  // namespace
