@@ -19,6 +19,7 @@ constexpr ControlHelp kViewerControls[] = {
     {"drag a bar between panels", "resize the viewport and the panels (the render restarts)"},
     {"click a walk step or table row", "inspect that cell: highlight and cost report"},
     {"click a table header", "sort the states table by that column"},
+    {"B", "while comparing (A/B section): show A or B alone, in turn"},
     {"Ctrl+click a slider", "type its value"},
     {"hover a slider or a cut cell", "its meaning or full text"},
 };
