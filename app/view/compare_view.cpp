@@ -85,6 +85,7 @@ void CompareView::start(ViewState& state) {
   // Stopped first: two sessions of B would briefly share the cores.
   session_.reset();
   session_ = std::make_unique<Session>(a.scene, side.accel, side.params, frame_ready_);
+  heat_b_of_.reset(), drawn_of_.reset();  // a new session counts its generations anew
   a_structure_ = structure_key(a);
   label_b_ = side_b_label(spec_, a.accel);
   follow(state);
@@ -96,8 +97,8 @@ void CompareView::follow(const ViewState& state) {
   const ViewSetup& a = state.session.setup();
   const ViewSetup& b = session_->setup();
   if (a.scene != b.scene) session_->set_scene(a.scene, a.camera);
-  if (structure_key(a) != a_structure_) {
-    a_structure_ = structure_key(a);
+  if (std::string key = structure_key(a); key != a_structure_) {
+    a_structure_ = std::move(key);
     const CompareSide side = side_b(spec_, a.accel, a.params);
     session_->set_structure(side.accel, side.params);
   }
@@ -122,11 +123,18 @@ void CompareView::update(ViewState& state, HeatMap& heat_a) {
   }
   session_->take_frame();
   state.compare_pending = !(session_->full_pass_current() && b_matches_a(state));
-  heat_b_.clear();
   const HeatKind kind = state.overlays.heat;
-  if (kind == HeatKind::none || !b_matches_a(state)) return;
+  if (kind == HeatKind::none || !b_matches_a(state)) {
+    heat_b_.clear();
+    heat_b_of_.reset();
+    return;
+  }
   const ProgressiveFrame& b = session_->frame();
-  heat_b_ = heat_values(b.pixels, kind, b.spp);
+  const HeatInputs inputs{b.generation, b.pass, kind};
+  if (heat_b_of_ != inputs) {
+    heat_b_ = heat_values(b.pixels, kind, b.spp);
+    heat_b_of_ = inputs;
+  }
   // One scale for both heatmaps: A's range follows the larger maximum.
   const float shared = shared_heat_max(heat_a.values(), heat_b_);
   if (heat_a.auto_range || heat_a.lo != 0.0f || heat_a.hi != shared) {
@@ -151,18 +159,33 @@ bool CompareView::b_matches_a(const ViewState& state) const {
          to_string(state.session.frame_camera()) == to_string(session_->frame_camera());
 }
 
-std::vector<uint8_t> CompareView::b_image(const ViewState& state, const HeatMap& heat_a) const {
-  if (mode_ == CompareMode::a || !b_matches_a(state)) return {};
-  const bool heat = state.overlays.heat != HeatKind::none && !heat_b_.empty();
-  if (mode_ == CompareMode::difference)
-    return heat && heat_a.values().size() == heat_b_.size()
-               ? difference_image(heat_a.values(), heat_b_)
-               : std::vector<uint8_t>();
-  if (heat) return heat_image(heat_b_, 0.0f, heat_a.hi);
-  return session_->frame().image.rgba;
+bool CompareView::refresh_b(const ViewState& state, const HeatMap& heat_a) {
+  const ProgressiveFrame &a = state.session.frame(), &b = session_->frame();
+  const DrawnInputs inputs{a.generation,        b.generation, a.pass,   b.pass,
+                           state.overlays.heat, mode_,        heat_a.hi};
+  if (drawn_of_ == inputs) return shown_;  // target_ still holds it
+  drawn_of_ = inputs;
+  const bool comparable = !heat_b_.empty() && heat_a.values().size() == heat_b_.size();
+  difference_range_ = comparable ? difference_range(heat_a.values(), heat_b_) : 0.0f;
+  const std::span<const uint8_t> rgba = b_image(state, heat_a);
+  if (!rgba.empty()) draw_b(state, rgba);
+  return !rgba.empty();
 }
 
-void CompareView::draw_b(const ViewState& state, const std::vector<uint8_t>& rgba) {
+std::span<const uint8_t> CompareView::b_image(const ViewState& state, const HeatMap& heat_a) {
+  if (mode_ == CompareMode::a || !b_matches_a(state)) return {};
+  const bool heat = state.overlays.heat != HeatKind::none && !heat_b_.empty();
+  if (mode_ == CompareMode::difference) {
+    if (!heat || heat_a.values().size() != heat_b_.size()) return {};
+    b_rgba_ = difference_image(heat_a.values(), heat_b_);
+    return b_rgba_;
+  }
+  if (!heat) return session_->frame().image.rgba;
+  b_rgba_ = heat_image(heat_b_, 0.0f, heat_a.hi);
+  return b_rgba_;
+}
+
+void CompareView::draw_b(const ViewState& state, std::span<const uint8_t> rgba) {
   const ProgressiveFrame& b = session_->frame();
   target_.resize(b.width, b.height);
   target_.bind();
@@ -177,20 +200,16 @@ void CompareView::draw_b(const ViewState& state, const std::vector<uint8_t>& rgb
 }
 
 void CompareView::draw(const ViewState& state, const HeatMap& heat_a) {
-  shown_ = false;
+  shown_ = session_ && refresh_b(state, heat_a);
   if (!session_) return;
   const Viewport& view = state.viewport;
   const float from = mode_ == CompareMode::split ? divider_ : 0.0f;
   const float x = view.x + from * view.w;
-  const std::vector<uint8_t> rgba = b_image(state, heat_a);
-  if (!rgba.empty()) {
-    draw_b(state, rgba);
-    // GL textures count rows from the bottom: flip v, as the viewport's own image does.
+  // GL textures count rows from the bottom: flip v, as the viewport's own image does.
+  if (shown_)
     ImGui::GetBackgroundDrawList()->AddImage(target_.texture(), ImVec2(x, view.y),
                                              ImVec2(view.x + view.w, view.y + view.h),
                                              ImVec2(from, 1), ImVec2(1, 0));
-    shown_ = true;
-  }
   if (mode_ == CompareMode::split && shown_)
     ImGui::GetBackgroundDrawList()->AddLine(ImVec2(x, view.y), ImVec2(x, view.y + view.h), kDivider,
                                             2.0f);
@@ -252,10 +271,7 @@ void CompareView::totals_controls(const ViewState& state, const HeatMap& heat_a)
          compare_totals(label_b_, b));
   if (!heat_b_.empty())
     ImGui::TextWrapped("heatmaps on one scale 0..%.3g; B - A over +-%.3g (beyond saturated)",
-                       double(heat_a.hi),
-                       heat_a.values().size() == heat_b_.size()
-                           ? double(difference_range(heat_a.values(), heat_b_))
-                           : 0.0);
+                       double(heat_a.hi), double(difference_range_));
 }
 
 nlohmann::json CompareView::stats(const ViewState& state) const {

@@ -8,6 +8,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -52,9 +53,11 @@ class CompareView {
   void start(ViewState& state);
   // B's frame is of the view A's frame shows: same size and camera.
   bool b_matches_a(const ViewState& state) const;
+  // Draws B's part into target_ when what it shows changed; false when there is none.
+  bool refresh_b(const ViewState& state, const HeatMap& heat_a);
   // The RGBA image B's part shows for the mode, or empty when there is none to show.
-  std::vector<uint8_t> b_image(const ViewState& state, const HeatMap& heat_a) const;
-  void draw_b(const ViewState& state, const std::vector<uint8_t>& rgba);
+  std::span<const uint8_t> b_image(const ViewState& state, const HeatMap& heat_a);
+  void draw_b(const ViewState& state, std::span<const uint8_t> rgba);
   std::string b_label(const ViewState& state) const;
   void stop(HeatMap& heat_a);
   bool spec_controls(ViewState& state);
@@ -65,14 +68,33 @@ class CompareView {
   CompareSpec spec_;
   std::string label_b_;
   std::string a_structure_;  // A's structure and parameters B was derived from
-  uint64_t a_camera_changes_ = 0;
   CompareMode mode_ = CompareMode::split;
   float divider_ = 0.5f;       // where B starts, as a fraction of the viewport's width
   std::vector<float> heat_b_;  // B's heatmap figures per pixel and sample
+  // What heat_b_ and target_ were computed from: each is computed again only when its inputs
+  // change (a new pass of A or B, another heatmap, range or view), not every UI frame.
+  struct HeatInputs {
+    uint64_t b_generation = 0;
+    int b_pass = 0;
+    HeatKind kind = HeatKind::none;
+    bool operator==(const HeatInputs&) const = default;
+  };
+  struct DrawnInputs {
+    uint64_t a_generation = 0, b_generation = 0;
+    int a_pass = 0, b_pass = 0;
+    HeatKind kind = HeatKind::none;
+    CompareMode mode = CompareMode::split;
+    float heat_hi = 0.0f;
+    bool operator==(const DrawnInputs&) const = default;
+  };
+  std::optional<HeatInputs> heat_b_of_;
+  std::optional<DrawnInputs> drawn_of_;
+  std::vector<uint8_t> b_rgba_;    // B's heatmap or B - A, when target_ shows one
+  float difference_range_ = 0.0f;  // B - A's range, with the heatmaps drawn last
   TextField<160> spec_text_;
   gl::FrameRenderer renderer_;
   ViewportTarget target_;
-  bool shown_ = false;         // B's part was drawn in the last frame
+  bool shown_ = false;         // B's part is drawn
   bool shares_range_ = false;  // A's heat range was set to the shared scale
 };
 
