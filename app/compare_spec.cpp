@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "app/flags.h"
+#include "core/accel/registry.h"
 #include "core/base/error.h"
 
 namespace gs::app {
@@ -72,6 +73,10 @@ CompareSpec parse_compare(const std::string& text) {
 CompareSide side_b(const CompareSpec& spec, const std::string& accel_a,
                    const AccelParams& params_a) {
   CompareSide side{spec.accel.value_or(accel_a), params_a};
+  // A replay structure answers from another run's hit file, which B's rays have none of.
+  if (structure_named(side.accel).needs_oracle)
+    throw UsageError("--compare '" + spec.text + "': structure '" + side.accel +
+                     "' replays another run's hits and cannot be compared here");
   std::vector<std::string> given;
   for (const auto& [flag, value] : spec.structure_flags) {
     apply_structure_flag(side.params, flag, value);

@@ -28,7 +28,8 @@ CompareSpec parse_compare(const std::string& text);
 std::string side_b_label(const CompareSpec& spec, const std::string& accel_a);
 
 // Side B's structure and parameters: A's with the spec's changes. Throws UsageError when B's
-// structure does not read a structure flag the spec sets (as check_structure does).
+// structure does not read a structure flag the spec sets (as check_structure does) or
+// replays another run's hits (zero).
 struct CompareSide {
   std::string accel;
   AccelParams params;

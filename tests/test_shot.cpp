@@ -268,7 +268,7 @@ TEST(ShotCompare, TheDifferenceIsWhiteExactlyWhereTheHeatmapsAgree) {
 TEST(ShotCompare, BadSpecsAreUsageErrors) {
   const std::string out = " --out '" + temp_path("cmp_bad.png") + "'";
   for (const char* spec : {"", "accel", "accel=nosuch", "bogus=1", "packets=maybe",
-                           "max-granularity=0", "density=3"}) {
+                           "max-granularity=0", "density=3", "accel=zero"}) {
     const Outcome r = run("shot builtin:pyramid --compare '" + std::string(spec) + "'" + out);
     EXPECT_EQ(r.status, 2) << spec << ": " << r.err;
     EXPECT_NE(r.err.find("--compare"), std::string::npos) << r.err;

@@ -405,7 +405,7 @@ TEST(View, CompareDifferenceIsShotsDifferenceFrame) {
 
 TEST(View, CompareFlagsBForAnotherStructureAreUsageErrors) {
   // grid1d reads no --density: B's flags must suit B's structure.
-  for (const char* spec : {"density=3", "accel=nothing", "vertcost"}) {
+  for (const char* spec : {"density=3", "accel=nothing", "vertcost", "accel=zero"}) {
     const Outcome result = run("view --compare '" + std::string(spec) + "'");
     EXPECT_EQ(result.status, 2) << spec;
     EXPECT_NE(result.err.find("--compare"), std::string::npos) << result.err;
