@@ -9,6 +9,7 @@
 #include <set>
 
 #include "core/accel/registry.h"
+#include "core/base/text.h"
 
 namespace gs {
 
@@ -132,17 +133,6 @@ std::string format(const char* spec, double value) {
 }
 
 std::string fixed2(double value) { return format("%.2f", value); }
-
-// A count with thousands separators: 59672 -> "59,672".
-std::string count_text(double count) {
-  const std::string digits = format("%.0f", std::fabs(count));
-  std::string out = count <= -0.5 ? "-" : "";
-  for (size_t i = 0; i < digits.size(); ++i) {
-    if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
-    out += digits[i];
-  }
-  return out;
-}
 
 // The marks a figure carries: † estimated over the time cap, ‡ taken under load.
 std::string figure_marks(const json& record) {

@@ -19,6 +19,7 @@
 
 #include "core/base/error.h"
 #include "core/base/hash.h"
+#include "core/base/text.h"
 
 namespace gs {
 
@@ -176,16 +177,6 @@ glm::vec4 faded(glm::vec4 color, uint32_t depth, const DepthRange& range) {
   return color;
 }
 
-// "1,234,567": totals in notes are read at a glance.
-std::string with_commas(uint64_t n) {
-  std::string digits = std::to_string(n), out;
-  for (size_t i = 0; i < digits.size(); ++i) {
-    if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
-    out += digits[i];
-  }
-  return out;
-}
-
 // "level 3" or "levels 3-5".
 std::string levels(uint32_t first, uint32_t last) {
   return first == last ? "level " + std::to_string(first)
@@ -263,13 +254,13 @@ std::string Coverage::describe() const {
   }
   if (present.empty()) return overlay + ": no " + item;
   if (shown() == total())
-    return overlay + ": " + with_commas(total()) + " " + item + ", " + level_span(present);
+    return overlay + ": " + count_text(double(total())) + " " + item + ", " + level_span(present);
   std::vector<std::string> parts;
   if (!complete.empty()) parts.push_back(level_span(complete) + " complete");
   if (!partly.empty()) parts.push_back(level_span(partly) + " partly");
   if (!left_out.empty()) parts.push_back(level_span(left_out) + " left out");
-  std::string text = overlay + ": showing " + with_commas(shown()) + " of " + with_commas(total()) +
-                     " " + item + ":";
+  std::string text = overlay + ": showing " + count_text(double(shown())) + " of " +
+                     count_text(double(total())) + " " + item + ":";
   for (size_t i = 0; i < parts.size(); ++i) text += (i ? ", " : " ") + parts[i];
   return text + "; narrow the depth range or use near-walk";
 }
