@@ -5,11 +5,13 @@
 // structure, with each kernel, against brute force.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <random>
 #include <vector>
 
+#include "core/accel/grid1d/packet_lanes.h"
 #include "core/geometry/box_test.h"
 #include "core/geometry/clip_box.h"
 #include "core/geometry/leaf.h"
@@ -280,6 +282,97 @@ TEST(BoxTest, RaysInLanesAgreeWithOneRayAtATime) {
   EXPECT_LT(crossings, agreed);
 }
 
+// The packet walk's lane arithmetic (packet_lanes.h), with every instruction set this CPU
+// has, gives each ray what the scalar formulas below give, bit for bit: the cells its
+// segment covers in a node, and where it enters and leaves a cell. Rays at random (some
+// parallel to the node's axis), nodes with 1 .. 40 cells on grids of up to 4096 slabs.
+TEST(PacketLanes, EveryLaneGivesTheScalarFiguresBitForBit) {
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  size_t covered = 0, entered = 0, checked = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    PacketLines lines;
+    const int axis = trial % 3;
+    const double scene_lo = -3.0, extent = 7.0;
+    const uint64_t slabs = uint64_t(1) << (trial % 13);
+    const int cells = 1 + trial % 40;
+    const uint64_t first = uint64_t(double(slabs) * 0.5 * (1.0 + unit(random))) % slabs;
+    const NodeCells node{
+        axis,          scene_lo,         double(slabs) / extent, extent / double(slabs),
+        double(first), double(cells - 1)};
+    alignas(64) double t_in[kPacketLanes] = {}, t_out[kPacketLanes] = {};
+    for (uint32_t r = 0; r < 64; ++r) {
+      for (int a = 0; a < 3; ++a) {
+        lines.origin[a][r] = 4.0 * unit(random);
+        lines.dir[a][r] = (r % 9 == 0 && a == axis) ? 0.0 : unit(random);
+        lines.inv_dir[a][r] = 1.0 / lines.dir[a][r];
+      }
+      lines.slack[r] = 1e-9 * std::fabs(unit(random));
+      lines.stop[r] = 6.0 * unit(random);
+      t_in[r] = 2.0 * unit(random);
+      // Some segments are a single point: a ray stepping in exactly at its end still steps.
+      t_out[r] = t_in[r] + (r % 7 == 0 ? 0.0 : 3.0 * std::fabs(unit(random)));
+    }
+    const uint64_t rays = uint64_t(random()) << 32 | random();
+    for (const Isa isa : supported_isas()) {
+      const PacketLaneOps ops = packet_lane_ops(isa);
+      PacketCover cover;
+      ops.cover(lines, node, rays, t_in, t_out, cover);
+      int32_t union_lo = cells, union_hi = -1;
+      const auto locate = [&](double p) {
+        return int32_t(std::clamp((p - node.origin) * node.scale - node.first, 0.0, node.last));
+      };
+      for (uint32_t r = 0; r < 64; ++r) {
+        if (!(rays >> r & 1)) continue;
+        const double origin = lines.origin[axis][r], dir = lines.dir[axis][r];
+        const int32_t from = locate(origin + t_in[r] * dir), to = locate(origin + t_out[r] * dir);
+        const int32_t lo = std::max(std::min(from, to) - 1, 0);
+        const int32_t hi = std::min(std::max(from, to) + 1, cells - 1);
+        const double t_origin = (node.origin - origin) * lines.inv_dir[axis][r];
+        const double t_width = node.width * lines.inv_dir[axis][r];
+        EXPECT_EQ(cover.lo[r], lo) << isa_name(isa) << " trial " << trial << " ray " << r;
+        EXPECT_EQ(cover.hi[r], hi) << isa_name(isa) << " trial " << trial << " ray " << r;
+        if (dir != 0.0) {
+          EXPECT_EQ(std::bit_cast<uint64_t>(cover.t_origin[r]), std::bit_cast<uint64_t>(t_origin));
+          EXPECT_EQ(std::bit_cast<uint64_t>(cover.t_width[r]), std::bit_cast<uint64_t>(t_width));
+        }
+        union_lo = std::min(union_lo, lo), union_hi = std::max(union_hi, hi);
+        covered += hi - lo + 1;
+      }
+      EXPECT_EQ(cover.cover_lo, union_lo) << isa_name(isa) << " trial " << trial;
+      EXPECT_EQ(cover.cover_hi, union_hi) << isa_name(isa) << " trial " << trial;
+      for (int cell = 0; cell < cells; ++cell) {
+        const double wall = double(first) + cell;
+        alignas(64) double child_in[kPacketLanes], child_out[kPacketLanes];
+        const uint64_t got =
+            ops.enter(lines, axis, cover, wall, rays, t_in, t_out, child_in, child_out);
+        for (uint32_t r = 0; r < 64; ++r) {
+          if (!(rays >> r & 1)) continue;
+          double enter = t_in[r], exit = t_out[r];
+          if (lines.dir[axis][r] != 0.0) {
+            const double wall_a = cover.t_origin[r] + wall * cover.t_width[r];
+            const double wall_b = cover.t_origin[r] + (wall + 1.0) * cover.t_width[r];
+            enter = std::max(enter, std::min(wall_a, wall_b) - lines.slack[r]);
+            exit = std::min(exit, std::max(wall_a, wall_b) + lines.slack[r]);
+          }
+          const bool steps = enter <= exit && enter <= lines.stop[r];
+          ASSERT_EQ(bool(got >> r & 1), steps) << isa_name(isa) << " trial " << trial;
+          ++checked;
+          if (!steps) continue;
+          ++entered;
+          EXPECT_EQ(std::bit_cast<uint64_t>(child_in[r]), std::bit_cast<uint64_t>(enter));
+          EXPECT_EQ(std::bit_cast<uint64_t>(child_out[r]), std::bit_cast<uint64_t>(exit));
+        }
+        EXPECT_EQ(got & ~rays, 0u);
+      }
+    }
+  }
+  // The cases are not vacuous: rays cover cells, and some step into cells, some do not.
+  EXPECT_GT(covered, 1000u);
+  EXPECT_GT(entered, checked / 20);
+  EXPECT_LT(entered, checked);
+}
+
 // Every structure, with every kernel this CPU has, answers exactly what brute answers:
 // nearest hits bit for bit, lazy and eager, 1 and 2 threads.
 class EveryKernel : public testing::TestWithParam<Isa> {};
@@ -300,6 +393,13 @@ TEST_P(EveryKernel, EveryStructureMatchesBrute) {
     std::vector<test::StructureRun> runs = test::lazy_and_eager_runs(name);
     for (test::StructureRun run : test::lazy_and_eager_runs(name)) {
       run.sample = true;
+      runs.push_back(run);
+    }
+    // grid1d's packet walk: its per-ray node arithmetic and its leaf tests run on this
+    // instruction set's lanes too.
+    for (test::StructureRun run : test::lazy_and_eager_runs(name)) {
+      if (name != "grid1d") break;
+      run.packet = 64;
       runs.push_back(run);
     }
     EXPECT_EQ(test::disagreements(scene, rays, runs, expected), 0u)

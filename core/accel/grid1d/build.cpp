@@ -58,6 +58,7 @@ Grid1D::Grid1D(const AccelParams& params)
     : params_(params),
       isa_(kernel_isa()),
       kernel_(kernel_for(isa_)),
+      lane_ops_(packet_lane_ops(isa_)),
       voxels_(params.memory_budget),
       regions_(params.memory_budget),
       tri_indices_(params.memory_budget),

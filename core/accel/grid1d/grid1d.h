@@ -21,6 +21,7 @@
 
 #include "core/accel/accelerator.h"
 #include "core/accel/grid1d/cost_model.h"
+#include "core/accel/grid1d/packet_lanes.h"
 #include "core/base/atomic.h"
 #include "core/base/stable_array.h"
 #include "core/geometry/leaf.h"
@@ -183,6 +184,7 @@ class Grid1D final : public Accelerator {
   AccelParams params_;
   Isa isa_;
   Kernel kernel_;
+  PacketLaneOps lane_ops_;
   BuildInput input_;
   double build_seconds_ = 0.0;
 

@@ -73,7 +73,8 @@ void Grid1D::trace_together(std::span<const Ray> rays, std::span<Hit> hits,
   packet.clear();
   packet.reserve(kMaxRays);
   uint32_t index[kMaxRays];
-  double t_in[kMaxRays], t_out[kMaxRays];
+  // Zero past the packet's last ray: the lanes read whole groups (packet_lanes.h).
+  alignas(64) double t_in[kPacketLanes] = {}, t_out[kPacketLanes] = {};
   int packet_kind = -1;  // octant and dominant axis (which fixes the kernel's axis order)
   uint64_t single = 0;
   for (size_t i = 0; i < rays.size(); ++i) {
@@ -102,8 +103,11 @@ void Grid1D::trace_together(std::span<const Ray> rays, std::span<Hit> hits,
     const PreparedRay<KernelReal>& first = packet.front().prepared;
     lanes.count = 0, lanes.kx = first.kx, lanes.ky = first.ky, lanes.kz = first.kz;
     for (uint32_t r = 0; r < packet.size(); ++r) {
-      lanes.add(packet[r].prepared, packet[r].tmax);
-      context.ray_box_lanes.set(r, packet[r].boxes, packet[r].t_lo, packet[r].t_hi);
+      PacketRay& ray = packet[r];
+      lanes.add(ray.prepared, ray.tmax);
+      context.packet_lines.set(r, ray.line);
+      set_stop(ray.line, ray.tmax, context.packet_lines.stop[r], ray.t_hi);
+      context.ray_box_lanes.set(r, ray.boxes, ray.t_lo, ray.t_hi);
     }
     PacketWalk walk{packet, context, context.packet_mailbox.next_packet(), {}, 0};
     for (int a = 0; a < 3; ++a) walk.step[a] = packet_kind >> a & 1 ? -1 : 1;
@@ -161,29 +165,18 @@ void Grid1D::visit_node(uint32_t id, uint64_t rays, const double* t_in, const do
   const int b = node.axis;
   const int64_t g = node.granularity, first = node.first_cell;
   const StateInfo& info = states_[node.state];
-  double t_origin[kMaxRays], t_width[kMaxRays];
-  int32_t lo[kMaxRays], hi[kMaxRays];
-  int64_t cover_lo = g, cover_hi = -1;
-  const auto locate = [&](double p) {
-    return int32_t(std::clamp((p - info.origin) * info.scale - double(first), 0.0, double(g - 1)));
-  };
-  for_each_ray(rays, [&](uint32_t r) {
-    const WalkLine& line = walk.rays[r].line;
-    t_origin[r] = (info.origin - line.origin[b]) * line.inv_dir[b];
-    t_width[r] = info.width * line.inv_dir[b];
-    int32_t from = locate(line.origin[b] + t_in[r] * line.dir[b]);
-    int32_t to = locate(line.origin[b] + t_out[r] * line.dir[b]);
-    if (from > to) std::swap(from, to);
-    lo[r] = std::max(from - 1, 0), hi[r] = std::min(to + 1, int32_t(g - 1));
-    cover_lo = std::min<int64_t>(cover_lo, lo[r]), cover_hi = std::max<int64_t>(cover_hi, hi[r]);
-  });
+  const PacketLines& lines = walk.context.packet_lines;
+  PacketCover cover;
+  lane_ops_.cover(lines, {b, info.origin, info.scale, info.width, double(first), double(g - 1)},
+                  rays, t_in, t_out, cover);
   const float* boxes = &child_boxes_[node.boxes];
   const uint32_t stride = box_stride(node.granularity);
   const RayBoxLanes& box_lanes = walk.context.ray_box_lanes;
-  double child_in[kMaxRays], child_out[kMaxRays];
+  alignas(64) double child_in[kPacketLanes], child_out[kPacketLanes];
   TraceCounters& counters = walk.context.counters;
   // Which rays cover the k-th cell in the packet's order: over a short run of cells, from
   // where each ray's cells begin and end in it, kept as the cells go by; otherwise per cell.
+  const int64_t cover_lo = cover.cover_lo, cover_hi = cover.cover_hi;
   const int64_t run = cover_hi - cover_lo + 1;
   const bool by_events = run <= int64_t(kMaxRays);
   uint64_t begins[kMaxRays + 1], ends[kMaxRays + 1];
@@ -191,8 +184,9 @@ void Grid1D::visit_node(uint32_t id, uint64_t rays, const double* t_in, const do
     std::fill(begins, begins + run + 1, uint64_t{0});
     std::fill(ends, ends + run + 1, uint64_t{0});
     for_each_ray(rays, [&](uint32_t r) {
-      const int64_t from = walk.step[b] > 0 ? lo[r] - cover_lo : cover_hi - hi[r];
-      begins[from] |= uint64_t{1} << r, ends[from + hi[r] - lo[r] + 1] |= uint64_t{1} << r;
+      const int64_t from = walk.step[b] > 0 ? cover.lo[r] - cover_lo : cover_hi - cover.hi[r];
+      begins[from] |= uint64_t{1} << r,
+          ends[from + cover.hi[r] - cover.lo[r] + 1] |= uint64_t{1} << r;
     });
   }
   uint64_t covering = 0;
@@ -203,26 +197,17 @@ void Grid1D::visit_node(uint32_t id, uint64_t rays, const double* t_in, const do
     if (child_ref::kind(ref) == child_ref::kEmpty) continue;
     if (!by_events) {
       covering = 0;
-      for_each_ray(rays,
-                   [&](uint32_t r) { covering |= uint64_t(cell >= lo[r] && cell <= hi[r]) << r; });
+      for_each_ray(rays, [&](uint32_t r) {
+        covering |= uint64_t(cell >= cover.lo[r] && cell <= cover.hi[r]) << r;
+      });
     }
     const uint64_t candidates = covering & ~walk.done;
+    if (candidates == 0) continue;
     const uint64_t meeting =
         candidates & kernel_.rays_crossed(box_lanes, boxes, stride, uint32_t(cell), candidates);
-    uint64_t entering = 0;
-    for_each_ray(meeting, [&](uint32_t r) {
-      const PacketRay& ray = walk.rays[r];
-      double enter = t_in[r], exit = t_out[r];
-      if (ray.line.dir[b] != 0.0) {
-        const double wall_a = t_origin[r] + double(first + cell) * t_width[r];
-        const double wall_b = t_origin[r] + double(first + cell + 1) * t_width[r];
-        enter = std::max(enter, std::min(wall_a, wall_b) - ray.line.slack);
-        exit = std::min(exit, std::max(wall_a, wall_b) + ray.line.slack);
-      }
-      if (!(enter <= exit && enter <= ray.stop)) return;
-      child_in[r] = enter, child_out[r] = exit;
-      entering |= uint64_t{1} << r;
-    });
+    if (meeting == 0) continue;
+    const uint64_t entering = lane_ops_.enter(lines, b, cover, double(first + cell), meeting, t_in,
+                                              t_out, child_in, child_out);
     if (entering == 0) continue;
     ++counters.packet_steps;
     counters.packet_step_rays += uint64_t(std::popcount(entering));
@@ -269,7 +254,7 @@ void Grid1D::search_leaf(const LeafView& leaf, uint64_t rays, PacketWalk& walk) 
   if (AnyHit) return;
   for_each_ray(improved, [&](uint32_t r) {
     PacketRay& ray = walk.rays[r];
-    set_stop(ray.line, ray.tmax, ray.stop, ray.t_hi);
+    set_stop(ray.line, ray.tmax, context.packet_lines.stop[r], ray.t_hi);
     box_lanes.set_end(r, ray.t_hi);
   });
 }

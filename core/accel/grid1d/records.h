@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/accel/grid1d/grid1d.h"
+#include "core/accel/grid1d/packet_lanes.h"
 #include "core/base/check.h"
 #include "core/geometry/box_test.h"
 #include "core/geometry/clip_box.h"
@@ -92,14 +93,11 @@ struct Grid1D::PacketRay {
         prepared(ray, line.shift, line.inv_dir),
         boxes(ray, !line.far),
         t_lo(box_test_start(line)),
-        tmax(ray.tmax) {
-    set_stop(line, tmax, stop, t_hi);
-  }
+        tmax(ray.tmax) {}
   WalkLine line;
   PreparedRay<KernelReal> prepared;
   RayBoxes boxes;
-  double stop;
-  __m128 t_lo, t_hi;
+  __m128 t_lo, t_hi;  // t_hi: set with the stop distance, in the packet's PacketLines
   float tmax;
   Hit best;
 };
@@ -149,6 +147,7 @@ class alignas(64) Grid1D::Context final : public ThreadContext {
   // The rays of the packet being traced (reserved once: kMaxPacketRays), its mailbox, and
   // the rays searching a leaf in the rays-in-lanes forms of the kernel and the box test.
   std::vector<PacketRay> packet;
+  PacketLines packet_lines;
   PacketMailbox packet_mailbox;
   RayLanes ray_lanes;
   RayBoxLanes ray_box_lanes;
