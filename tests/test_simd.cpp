@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <random>
@@ -280,6 +281,125 @@ TEST(BoxTest, RaysInLanesAgreeWithOneRayAtATime) {
   }
   EXPECT_GT(crossings, agreed / 20);  // about one in ten rays crosses the box
   EXPECT_LT(crossings, agreed);
+}
+
+// Bits of a double and a float, for bit-for-bit comparisons (NaN included).
+uint64_t bits(double x) { return std::bit_cast<uint64_t>(x); }
+uint32_t bits(float x) { return std::bit_cast<uint32_t>(x); }
+
+// Rays for the packet start: ordinary ones through and past a box, and the cases every
+// branch of start_walk takes: zero and negative-zero components, origins on the box's faces
+// and far away, empty or inverted [tmin, tmax], infinite and NaN numbers.
+std::vector<Ray> start_rays(std::mt19937& random) {
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::nanf("");
+  const float specials[] = {0.0f, -0.0f, 2.0f, -1.0f, 1e-30f, -1e30f, inf, nan, 3e9f};
+  std::vector<Ray> rays;
+  for (int i = 0; i < 64 * 40; ++i) {
+    Ray ray;
+    // Mostly toward a point near the box's centre, so that most rays start a walk.
+    for (int a = 0; a < 3; ++a)
+      ray.origin[a] = 4.0f * unit(random), ray.dir[a] = unit(random) - ray.origin[a];
+    ray.tmin = 0.0f, ray.tmax = inf;
+    switch (i % 11) {
+      case 1:  // a component special
+        ray.dir[i % 3] = specials[(i / 11) % 9];
+        break;
+      case 2:
+        ray.origin[(i / 3) % 3] = specials[(i / 7) % 9];
+        break;
+      case 3:  // on a face, along it
+        ray.origin[i % 3] = 2.0f, ray.dir[i % 3] = (i / 11) % 2 ? 0.0f : -0.0f;
+        break;
+      case 4:
+        ray.tmin = 2.0f * unit(random), ray.tmax = ray.tmin + unit(random);
+        break;
+      case 5:  // the stop distance's next float up from zero is the smallest denormal
+        ray.tmax = std::array{nan, 0.5f, 0.0f, -0.0f}[(i / 11) % 4];
+        ray.tmin = ray.tmax == 0.0f ? -1.0f : 0.0f;
+        break;
+      case 6:  // from far away toward the box
+        for (int a = 0; a < 3; ++a)
+          ray.origin[a] = 1e7f * unit(random), ray.dir[a] = -ray.origin[a];
+        break;
+      default:
+        break;
+    }
+    rays.push_back(ray);
+  }
+  return rays;
+}
+
+// The packet's start in lanes (PacketLaneOps::start and prepare), with every instruction
+// set this CPU has, sets each ray up exactly as the single-ray walk does: start_walk's line,
+// PreparedRay's figures, RayBoxes' float origin and 1 / dir, box_test_start, the stop
+// distance and box_test_end, bit for bit.
+TEST(PacketLanes, StartIsTheSingleRayStartBitForBit) {
+  std::mt19937 random(11);
+  const std::vector<Ray> rays = start_rays(random);
+  const ClipBox box(Box{glm::vec3(-1.0f, -2.0f, -1.5f), glm::vec3(2.0f, 1.0f, 2.5f)});
+  size_t tried = 0, walks = 0, misses = 0, far = 0;
+  for (const Isa isa : supported_isas()) {
+    const PacketLaneOps ops = packet_lane_ops(isa);
+    for (size_t packet = 0; packet < rays.size(); packet += 64) {
+      PacketLines lines;
+      const uint32_t count = 1 + uint32_t(packet / 64) % 64;  // every packet size
+      for (uint32_t i = 0; i < count; ++i) lines.set_ray(i, rays[packet + i]);
+      const uint64_t started = ops.start(box, count, lines);
+      EXPECT_EQ(count == 64 ? 0u : started >> count, 0u);
+      for (uint32_t i = 0; i < count; ++i) {
+        const Ray& ray = rays[packet + i];
+        WalkLine line;
+        const bool starts = start_walk(box, ray, line);
+        ASSERT_EQ(bool(started >> i & 1), starts) << isa_name(isa) << " ray " << packet + i;
+        ++tried, misses += !starts;
+        if (!starts) continue;
+        ++walks;
+        for (int a = 0; a < 3; ++a) {
+          EXPECT_EQ(bits(lines.origin[a][i]), bits(line.origin[a]));
+          EXPECT_EQ(bits(lines.dir[a][i]), bits(line.dir[a]));
+          EXPECT_EQ(bits(lines.inv_dir[a][i]), bits(line.inv_dir[a]));
+        }
+        EXPECT_EQ(bits(lines.shift[i]), bits(line.shift));
+        EXPECT_EQ(bits(lines.t0[i]), bits(line.t0));
+        EXPECT_EQ(bits(lines.t1[i]), bits(line.t1));
+        EXPECT_EQ(bits(lines.slack[i]), bits(line.slack));
+        EXPECT_EQ(bool(lines.far >> i & 1), line.far);
+        far += line.far;
+        const PreparedRay<KernelReal> prepared(ray, line.shift, line.inv_dir);
+        const int octant = std::signbit(line.dir[0]) | std::signbit(line.dir[1]) << 1 |
+                           std::signbit(line.dir[2]) << 2;
+        EXPECT_EQ(lines.kind[i], octant | prepared.kz << 3) << isa_name(isa);
+        // The rest for this ray alone, with its own axes.
+        RayLanes kernel_lanes;
+        RayBoxLanes box_lanes;
+        const int axes[3] = {prepared.kx, prepared.ky, prepared.kz};
+        kernel_lanes.kx = axes[0], kernel_lanes.ky = axes[1], kernel_lanes.kz = axes[2];
+        ops.prepare(lines, uint64_t{1} << i, axes, kernel_lanes, box_lanes);
+        const PreparedRay<KernelReal> got = kernel_lanes.prepared(i);
+        for (int a = 0; a < 3; ++a) EXPECT_EQ(bits(got.origin[a]), bits(prepared.origin[a]));
+        EXPECT_EQ(bits(got.sx), bits(prepared.sx));
+        EXPECT_EQ(bits(got.sy), bits(prepared.sy));
+        EXPECT_EQ(bits(got.sz), bits(prepared.sz));
+        EXPECT_EQ(bits(got.shift), bits(prepared.shift));
+        EXPECT_EQ(bits(got.tmin), bits(prepared.tmin));
+        EXPECT_EQ(bits(kernel_lanes.tmax[i]), bits(ray.tmax));
+        const RayBoxes boxes(ray, !line.far);
+        for (int a = 0; a < 3; ++a) {
+          EXPECT_EQ(bits(box_lanes.origin[a][i]), bits(_mm_cvtss_f32(boxes.origin[a])));
+          EXPECT_EQ(bits(box_lanes.inv_dir[a][i]), bits(_mm_cvtss_f32(boxes.inv_dir[a])));
+        }
+        const double stop = line.stop(ray.tmax);
+        EXPECT_EQ(bits(lines.stop[i]), bits(stop));
+        EXPECT_EQ(bits(box_lanes.t0[i]), bits(_mm_cvtss_f32(box_test_start(line))));
+        EXPECT_EQ(bits(box_lanes.t1[i]), bits(_mm_cvtss_f32(box_test_end(line, stop))));
+      }
+    }
+  }
+  // Both outcomes, and far rays, are checked.
+  EXPECT_GT(walks, tried / 4);
+  EXPECT_GT(misses, tried / 10);
+  EXPECT_GT(far, 10u);
 }
 
 // The packet walk's lane arithmetic (packet_lanes.h), with every instruction set this CPU

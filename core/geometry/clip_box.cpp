@@ -61,7 +61,7 @@ bool start_walk(const ClipBox& box, const Ray& ray, WalkLine& line) {
   return line.t0 <= line.t1;
 }
 
-double WalkLine::stop(float tmax) const { return stop_distance(tmax, slack) - shift; }
+double WalkLine::stop(float tmax) const { return walk_stop(tmax, slack, shift); }
 
 bool ray_is_valid(const Ray& ray) {
   // x - x is NaN exactly when x is infinite or NaN: one test for the six components.

@@ -151,5 +151,9 @@ void content_box(uint32_t count, BoxOf&& box_of, const double lo[3], const doubl
 inline double stop_distance(float tmax, double slack) {
   return double(next_float_up(tmax)) + slack;
 }
+// The same in a walk line's t (WalkLine::stop).
+inline double walk_stop(float tmax, double slack, double shift) {
+  return stop_distance(tmax, slack) - shift;
+}
 
 }  // namespace gs

@@ -57,6 +57,7 @@ struct PreparedRay {
   int kx, ky, kz;
   Real sx, sy, sz;
 
+  PreparedRay() = default;  // for figures set one by one (RayLanes::prepared)
   PreparedRay(const Ray& ray, double shift_to) : PreparedRay(ray, shift_to, nullptr) {}
   // With the ray's 1 / dir per axis (ClipBox::clip's), for double: the one division the
   // set-up needs is then already done, with the same result.

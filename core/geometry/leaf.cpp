@@ -69,7 +69,7 @@ uint64_t test_rays_scalar(const LeafView& leaf, uint32_t tri, const RayLanes& ra
   uint64_t hits = 0;
   for (; lanes != 0; lanes &= lanes - 1) {
     const auto r = uint32_t(std::countr_zero(lanes));
-    if (intersect_triangle(*rays.prepared[r], leaf.corner(tri, 0), leaf.corner(tri, 1),
+    if (intersect_triangle(rays.prepared(r), leaf.corner(tri, 0), leaf.corner(tri, 1),
                            leaf.corner(tri, 2), leaf.count, rays.tmax[r], out.t[r], out.u[r],
                            out.v[r]))
       hits |= uint64_t{1} << r;

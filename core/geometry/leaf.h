@@ -111,14 +111,21 @@ struct RayLanes {
   alignas(64) double sx[kPadded] = {}, sy[kPadded] = {}, sz[kPadded] = {};
   alignas(64) double shift[kPadded] = {};
   alignas(64) float tmin[kPadded] = {}, tmax[kPadded] = {};  // tmax: the ray's nearest hit so far
-  const PreparedRay<KernelReal>* prepared[kMaxRays] = {};    // for lanes done by the scalar kernel
 
   // Appends a ray (whose axis order must be kx, ky, kz) searching up to tmax.
   void add(const PreparedRay<KernelReal>& ray, float ray_tmax) {
     ox[count] = ray.origin[kx], oy[count] = ray.origin[ky], oz[count] = ray.origin[kz];
     sx[count] = ray.sx, sy[count] = ray.sy, sz[count] = ray.sz;
-    shift[count] = ray.shift, tmin[count] = ray.tmin, tmax[count] = ray_tmax;
-    prepared[count++] = &ray;
+    shift[count] = ray.shift, tmin[count] = ray.tmin, tmax[count++] = ray_tmax;
+  }
+  // Lane r's ray as the scalar kernel takes it (for lanes it redoes in wider arithmetic).
+  PreparedRay<KernelReal> prepared(uint32_t r) const {
+    PreparedRay<KernelReal> ray;
+    ray.origin[kx] = ox[r], ray.origin[ky] = oy[r], ray.origin[kz] = oz[r];
+    ray.shift = shift[r], ray.tmin = tmin[r];
+    ray.kx = kx, ray.ky = ky, ray.kz = kz;
+    ray.sx = sx[r], ray.sy = sy[r], ray.sz = sz[r];
+    return ray;
   }
 };
 
@@ -166,9 +173,11 @@ inline __m128 box_test_start(const WalkLine& line) {
   return _mm_set1_ps(line.far ? -std::numeric_limits<float>::infinity()
                               : float_down(line.shift + line.t0));
 }
+inline __m128 box_test_end(bool far, double shift, double stop) {
+  return _mm_set1_ps(far ? std::numeric_limits<float>::infinity() : float_up(shift + stop));
+}
 inline __m128 box_test_end(const WalkLine& line, double stop) {
-  return _mm_set1_ps(line.far ? std::numeric_limits<float>::infinity()
-                              : float_up(line.shift + stop));
+  return box_test_end(line.far, line.shift, stop);
 }
 
 // The ray's test against a leaf's triangle boxes (LeafView::boxes), over the segment it

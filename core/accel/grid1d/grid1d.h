@@ -146,7 +146,6 @@ class Grid1D final : public Accelerator {
   uint32_t cursor_voxel(const Cursor& cursor) const;
 
   // Packet walk (packet.cpp).
-  struct PacketRay;
   struct PacketWalk;
   template <bool AnyHit>
   void trace_together(std::span<const Ray> rays, std::span<Hit> hits, Context& context) const;

@@ -23,10 +23,11 @@ namespace gs {
 // The packet: its rays, the direction its cells are taken in on each axis, and the rays
 // that are done (any-hit rays that found a blocker).
 struct Grid1D::PacketWalk {
-  std::vector<PacketRay>& rays;
   Context& context;
-  uint64_t id;  // the packet's number, for its mailbox
-  int step[3];  // +1 or -1: the order of cells along each axis
+  Hit* best;       // per ray: its nearest hit so far
+  uint32_t count;  // rays walking together
+  uint64_t id;     // the packet's number, for its mailbox
+  int step[3];     // +1 or -1: the order of cells along each axis
   uint64_t done = 0;
 };
 
@@ -38,12 +39,6 @@ static_assert(kMaxRays <= 64, "a packet's rays are the bits of a 64-bit mask");
 // Fewer rays than this going the same way are traced one by one: a packet's walk costs
 // more per ray than a single ray's when it carries almost nobody.
 constexpr size_t kMinPacketRays = 2;
-
-// The octant of a direction: bit a set when its component a has its sign bit set (-0 too:
-// the box tests meet a box's faces in the order of the sign bits).
-int octant(const double dir[3]) {
-  return std::signbit(dir[0]) | std::signbit(dir[1]) << 1 | std::signbit(dir[2]) << 2;
-}
 
 template <class Each>
 void for_each_ray(uint64_t rays, Each&& each) {
@@ -65,62 +60,59 @@ void Grid1D::trace_packet(std::span<const Ray> rays, std::span<const uint64_t> /
 
 // Rays going the way the packet's first ray goes (the same octant and dominant axis, so the
 // same order of cells and the same kernel axes) walk together; the others (and a packet of
-// one) are traced one at a time by the single-ray walk.
+// one) are traced one at a time by the single-ray walk. A ray keeps its number in the
+// packet: masks and lanes are indexed by it.
 template <bool AnyHit>
 void Grid1D::trace_together(std::span<const Ray> rays, std::span<Hit> hits,
                             Context& context) const {
-  std::vector<PacketRay>& packet = context.packet;
-  packet.clear();
-  packet.reserve(kMaxRays);
-  uint32_t index[kMaxRays];
-  // Zero past the packet's last ray: the lanes read whole groups (packet_lanes.h).
-  alignas(64) double t_in[kPacketLanes] = {}, t_out[kPacketLanes] = {};
-  int packet_kind = -1;  // octant and dominant axis (which fixes the kernel's axis order)
-  uint64_t single = 0;
-  for (size_t i = 0; i < rays.size(); ++i) {
-    hits[i] = Hit{};
-    WalkLine line;
-    if (!start_walk(input_.clip, rays[i], line)) continue;
-    const PacketRay& ray = packet.emplace_back(rays[i], line);
-    const int kind = octant(line.dir) | ray.prepared.kz << 3;
-    if (packet_kind < 0) packet_kind = kind;
-    if (kind != packet_kind) {
-      single |= uint64_t{1} << i;
-      packet.pop_back();
-      continue;
-    }
-    index[packet.size() - 1] = uint32_t(i);
-    t_in[packet.size() - 1] = line.t0, t_out[packet.size() - 1] = line.t1;
-  }
+  PacketLines& lines = context.packet_lines;
+  const auto count = uint32_t(rays.size());
+  for (uint32_t i = 0; i < count; ++i) lines.set_ray(i, rays[i]);
+  const uint64_t started = lane_ops_.start(input_.clip, count, lines);
+  uint64_t together = 0;
+  int32_t packet_kind = -1;  // octant and kz
+  for_each_ray(started, [&](uint32_t i) {
+    if (packet_kind < 0) packet_kind = lines.kind[i];
+    together |= uint64_t(lines.kind[i] == packet_kind) << i;
+  });
+  uint64_t single = started & ~together;
   TraceCounters& counters = context.counters;
-  if (packet.size() < kMinPacketRays) {
-    for (size_t k = 0; k < packet.size(); ++k) single |= uint64_t{1} << index[k];
-    packet.clear();
-  }
-  if (!packet.empty()) {
-    // The rays in lanes, by their number in the packet, for the box tests and the kernel.
+  if (std::popcount(together) < int(kMinPacketRays)) single = started, together = 0;
+  Hit best[kMaxRays];
+  if (together != 0) {
+    // The kernel's axes (PreparedRay: kz the largest component, then kx, ky, swapped to keep
+    // the winding when the ray runs down kz) and the box test's face order, from the kind.
     RayLanes& lanes = context.ray_lanes;
-    const PreparedRay<KernelReal>& first = packet.front().prepared;
-    lanes.count = 0, lanes.kx = first.kx, lanes.ky = first.ky, lanes.kz = first.kz;
-    for (uint32_t r = 0; r < packet.size(); ++r) {
-      PacketRay& ray = packet[r];
-      lanes.add(ray.prepared, ray.tmax);
-      context.packet_lines.set(r, ray.line);
-      set_stop(ray.line, ray.tmax, context.packet_lines.stop[r], ray.t_hi);
-      context.ray_box_lanes.set(r, ray.boxes, ray.t_lo, ray.t_hi);
+    lanes.kz = packet_kind >> 3;
+    lanes.kx = lanes.kz == 2 ? 0 : lanes.kz + 1;
+    lanes.ky = lanes.kx == 2 ? 0 : lanes.kx + 1;
+    if (packet_kind >> lanes.kz & 1) std::swap(lanes.kx, lanes.ky);
+    RayBoxLanes& box_lanes = context.ray_box_lanes;
+    for (int a = 0; a < 3; ++a) {
+      const bool toward_lo = packet_kind >> a & 1;
+      box_lanes.near_array[a] = toward_lo ? 3 + a : a;
+      box_lanes.far_array[a] = toward_lo ? a : 3 + a;
     }
-    PacketWalk walk{packet, context, context.packet_mailbox.next_packet(), {}, 0};
+    const int axes[3] = {lanes.kx, lanes.ky, lanes.kz};
+    lane_ops_.prepare(lines, together, axes, lanes, box_lanes);
+    PacketWalk walk{
+        context, best, uint32_t(std::popcount(together)), context.packet_mailbox.next_packet(),
+        {},      0};
     for (int a = 0; a < 3; ++a) walk.step[a] = packet_kind >> a & 1 ? -1 : 1;
-    const uint64_t all = packet.size() == 64 ? ~uint64_t{0} : (uint64_t{1} << packet.size()) - 1;
-    visit<AnyHit>(root_ref_.load(std::memory_order_acquire), all, t_in, t_out, walk);
-    for (size_t k = 0; k < packet.size(); ++k) hits[index[k]] = packet[k].best;
+    for_each_ray(together, [&](uint32_t i) { best[i] = Hit{}; });
+    visit<AnyHit>(root_ref_.load(std::memory_order_acquire), together, lines.t0, lines.t1, walk);
     ++counters.packets;
-    counters.packet_rays += packet.size();
+    counters.packet_rays += walk.count;
   }
   counters.packet_fallback_rays += uint64_t(std::popcount(single));
-  for_each_ray(single, [&](uint32_t i) {
-    hits[i] = AnyHit ? any_hit(rays[i], context) : intersect(rays[i], context);
-  });
+  for (uint32_t i = 0; i < count; ++i) {
+    if (together >> i & 1)
+      hits[i] = best[i];
+    else if (single >> i & 1)
+      hits[i] = AnyHit ? any_hit(rays[i], context) : intersect(rays[i], context);
+    else
+      hits[i] = Hit{};
+  }
 }
 
 // Takes `rays` (a mask of the packet's rays, each inside the cell `ref` from t_in to t_out
@@ -211,7 +203,7 @@ void Grid1D::visit_node(uint32_t id, uint64_t rays, const double* t_in, const do
     if (entering == 0) continue;
     ++counters.packet_steps;
     counters.packet_step_rays += uint64_t(std::popcount(entering));
-    counters.packet_step_slots += walk.rays.size();
+    counters.packet_step_slots += walk.count;
     visit<AnyHit>(ref, entering, child_in, child_out, walk);
   }
 }
@@ -241,10 +233,9 @@ void Grid1D::search_leaf(const LeafView& leaf, uint64_t rays, PacketWalk& walk) 
     counters.intersection_tests += uint64_t(std::popcount(testing));
     const auto triangle = int32_t(leaf.id(i));
     for_each_ray(kernel_.test_rays(leaf, i, lanes, testing, out), [&](uint32_t r) {
-      PacketRay& ray = walk.rays[r];
-      if (!closer(out.t[r], triangle, ray.best)) return;
-      ray.best = {triangle, out.t[r], out.u[r], out.v[r]};
-      ray.tmax = lanes.tmax[r] = out.t[r];
+      if (!closer(out.t[r], triangle, walk.best[r])) return;
+      walk.best[r] = {triangle, out.t[r], out.u[r], out.v[r]};
+      lanes.tmax[r] = out.t[r];
       improved |= uint64_t{1} << r;
       if (!AnyHit) return;
       walk.done |= uint64_t{1} << r;
@@ -252,10 +243,10 @@ void Grid1D::search_leaf(const LeafView& leaf, uint64_t rays, PacketWalk& walk) 
     });
   }
   if (AnyHit) return;
+  PacketLines& lines = context.packet_lines;
   for_each_ray(improved, [&](uint32_t r) {
-    PacketRay& ray = walk.rays[r];
-    set_stop(ray.line, ray.tmax, context.packet_lines.stop[r], ray.t_hi);
-    box_lanes.set_end(r, ray.t_hi);
+    lines.stop[r] = walk_stop(lanes.tmax[r], lines.slack[r], lines.shift[r]);
+    box_lanes.set_end(r, box_test_end(lines.far >> r & 1, lines.shift[r], lines.stop[r]));
   });
 }
 

@@ -1,12 +1,13 @@
 // The packet walk's per-ray arithmetic (packet.cpp), a packet's rays several at a time in
-// SIMD lanes: where each ray lies in a node's array, and which rays step into a cell
-// between its walls. Every lane performs the scalar operations in the same order (no fused
-// multiply-adds), so each ray's figures do not depend on the instruction set. One template
-// (packet_lanes_impl.h) compiled per instruction set, picked with the leaf kernel's
-// instruction set (core/geometry/leaf.h).
+// SIMD lanes: each ray's start (clipped line, kernel and box-test set-up), where each ray
+// lies in a node's array, and which rays step into a cell between its walls. Every lane performs
+// the scalar operations in the same order (no fused multiply-adds), so each ray's figures do not
+// depend on the instruction set. One template (packet_lanes_impl.h) compiled per instruction set,
+// picked with the leaf kernel's instruction set (core/geometry/leaf.h).
 #pragma once
 #include <cstdint>
 
+#include "core/geometry/box_test.h"
 #include "core/geometry/clip_box.h"
 #include "core/geometry/leaf.h"
 
@@ -16,21 +17,39 @@ namespace gs {
 // read from any ray on stay inside.
 inline constexpr uint32_t kPacketLanes = 64 + 8;
 
-// The packet's rays' walk lines (WalkLine), structure of arrays, and each ray's stop
-// distance (WalkLine::stop of its nearest hit so far).
+// A packet's rays, numbered as given (up to 64), structure of arrays: the rays themselves
+// (float, as Ray holds them), their walk lines (WalkLine, computed in double as start_walk
+// computes them), and each ray's stop distance (WalkLine::stop of its nearest hit so far).
 struct PacketLines {
+  // The rays: filled by the caller before start.
+  alignas(64) float ray_origin[3][kPacketLanes] = {}, ray_dir[3][kPacketLanes] = {};
+  alignas(64) float tmin[kPacketLanes] = {}, tmax[kPacketLanes] = {};
+  // Their lines.
   alignas(64) double origin[3][kPacketLanes] = {}, dir[3][kPacketLanes] = {},
                      inv_dir[3][kPacketLanes] = {};
+  alignas(64) double shift[kPacketLanes] = {}, t0[kPacketLanes] = {}, t1[kPacketLanes] = {};
   alignas(64) double slack[kPacketLanes] = {}, stop[kPacketLanes] = {};
+  // The octant of the direction (bit a: component a's sign bit) and, times 8, the kernel's
+  // axis kz (PreparedRay): rays of one kind take cells in one order with one kernel layout.
+  alignas(64) int32_t kind[kPacketLanes] = {};
+  uint64_t far = 0;  // bits: WalkLine::far
 
-  void set(uint32_t lane, const WalkLine& line) {
-    for (int a = 0; a < 3; ++a) {
-      origin[a][lane] = line.origin[a], dir[a][lane] = line.dir[a];
-      inv_dir[a][lane] = line.inv_dir[a];
-    }
-    slack[lane] = line.slack;
+  void set_ray(uint32_t lane, const Ray& ray) {
+    for (int a = 0; a < 3; ++a) ray_origin[a][lane] = ray.origin[a], ray_dir[a][lane] = ray.dir[a];
+    tmin[lane] = ray.tmin, tmax[lane] = ray.tmax;
   }
 };
+
+// Starts the walks of rays 0 .. count - 1 (set_ray'd): for each, what start_walk gives
+// (false for an invalid ray or one that misses the box) and its kind. Returns the rays that
+// start a walk.
+using StartRays = uint64_t (*)(const ClipBox& box, uint32_t count, PacketLines& lines);
+// The rays of `rays`, all of one kind whose kernel axes are axes[0..2] (kx, ky, kz), in the
+// forms the leaf kernel (PreparedRay) and the box test (RayBoxes, box_test_start/end of
+// their stop distance) read, each as the single-ray walk sets them up; and their stop
+// distances from their tmax.
+using PrepareRays = void (*)(PacketLines& lines, uint64_t rays, const int axes[3],
+                             RayLanes& kernel_lanes, RayBoxLanes& box_lanes);
 
 // A node's cells on the global grid of its traversal state: wall I of the grid lies at
 // origin + I * width; the node's cell c is the grid's slab first + c, c in 0 .. last.
@@ -61,6 +80,8 @@ using EnterCell = uint64_t (*)(const PacketLines& lines, int axis, const PacketC
                                double* child_in, double* child_out);
 
 struct PacketLaneOps {
+  StartRays start;
+  PrepareRays prepare;
   CoverCells cover;
   EnterCell enter;
 };

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <bit>
 #include <cstring>
+#include <limits>
 
 #include "core/accel/grid1d/packet_lanes.h"
 
@@ -18,9 +19,10 @@ namespace {
 
 template <class Lanes>
 struct LaneMath {
-  using Real = typename Lanes::Real;  // Lanes::kWidth doubles
-  using Mask = typename Lanes::Mask;  // a Real compare's result
-  using Int = typename Lanes::Int;    // Lanes::kWidth int32
+  using Real = typename Lanes::Real;    // Lanes::kWidth doubles
+  using Mask = typename Lanes::Mask;    // a Real compare's result
+  using Int = typename Lanes::Int;      // Lanes::kWidth int32
+  using Float = typename Lanes::Float;  // Lanes::kWidth floats
   static constexpr uint32_t kWidth = Lanes::kWidth;
   static constexpr uint64_t kGroup = (uint64_t{1} << kWidth) - 1;
 
@@ -30,6 +32,22 @@ struct LaneMath {
     return v;
   }
   static void store(double* p, Real v) { std::memcpy(p, &v, sizeof v); }
+  static Real load(const float* p) {
+    Float v;
+    std::memcpy(&v, p, sizeof v);
+    return __builtin_convertvector(v, Real);
+  }
+  static Float load_float(const float* p) {
+    Float v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+  }
+  static void store(float* p, Float v) { std::memcpy(p, &v, sizeof v); }
+  static void store(int32_t* p, Int v) { std::memcpy(p, &v, sizeof v); }
+  // A double compare's lanes as a mask for float or int32 lanes.
+  static Int narrow(Mask m) { return __builtin_convertvector(m, Int); }
+  static Real fabs(Real x) { return Real(Mask(x) & INT64_MAX); }  // the sign bit cleared
+  static Mask all() { return Mask{} == 0; }
   static Real splat(double x) { return Real{} + x; }
   static Real min(Real a, Real b) { return b < a ? b : a; }  // std::min(a, b)
   static Real max(Real a, Real b) { return a < b ? b : a; }  // std::max(a, b)
@@ -40,6 +58,132 @@ struct LaneMath {
     Int bit{};
     for (uint32_t i = 0; i < kWidth; ++i) bit[i] = int32_t(1) << i;
     return (bit & int32_t(group)) != 0;
+  }
+  static Mask wide_lanes_of(uint64_t group) {
+    Mask bit{};
+    for (uint32_t i = 0; i < kWidth; ++i) bit[i] = int64_t(1) << i;
+    return (bit & int64_t(group)) != 0;
+  }
+
+  // next_float_up, float_down and float_up (core/geometry/clip_box.h), lane by lane.
+  static Float next_float_up(Float f) {
+    const Int bits = Int(f);
+    Int up = f > 0.0f ? bits + 1 : bits - 1;
+    up = f == 0.0f ? Int{} + 1 : up;  // the smallest denormal
+    return Float(f < std::numeric_limits<float>::infinity() ? up : bits);
+  }
+  static Float next_float_down(Float f) { return -next_float_up(-f); }
+  static Float float_down(Real x) {
+    const Float f = __builtin_convertvector(x, Float);
+    return narrow(__builtin_convertvector(f, Real) > x) ? next_float_down(f) : f;
+  }
+  static Float float_up(Real x) {
+    const Float f = __builtin_convertvector(x, Float);
+    return narrow(__builtin_convertvector(f, Real) < x) ? next_float_up(f) : f;
+  }
+
+  // One clip of the segment [t0, t1] of lines origin + t dir to the box (ClipBox::clip and
+  // start_walk's second clip): an axis the line is parallel to only excludes it.
+  static Mask clip(const ClipBox& box, const Real origin[3], const Real dir[3],
+                   const Real inv_dir[3], Real& t0, Real& t1) {
+    Mask inside = all();
+    for (int a = 0; a < 3; ++a) {
+      const Mask flat = dir[a] == 0.0;
+      inside &= ~(flat & ((origin[a] < box.lo[a]) | (origin[a] > box.hi[a])));
+      const Real ta = (box.lo[a] - origin[a]) * inv_dir[a];
+      const Real tb = (box.hi[a] - origin[a]) * inv_dir[a];
+      const Mask swap = ta > tb;
+      t0 = flat ? t0 : max(t0, swap ? tb : ta);
+      t1 = flat ? t1 : min(t1, swap ? ta : tb);
+    }
+    return inside & (t0 <= t1);
+  }
+
+  // start_walk (core/geometry/clip_box.cpp) and the kind, a lane group at a time.
+  static uint64_t start(const ClipBox& box, uint32_t count, PacketLines& l) {
+    if (box.empty) return 0;
+    uint64_t started = 0, far = 0;
+    const uint64_t rays = count >= 64 ? ~uint64_t{0} : (uint64_t{1} << count) - 1;
+    for_each_group(rays, [&](uint32_t first, uint32_t /*group*/) {
+      Real o[3], d[3], inv_dir[3];
+      const Real tmin = load(&l.tmin[first]), tmax = load(&l.tmax[first]);
+      // ray_is_valid: finite origin and direction, a direction, tmin <= tmax.
+      Mask valid = tmin <= tmax, zero_dir = all();
+      for (int a = 0; a < 3; ++a) {
+        o[a] = load(&l.ray_origin[a][first]), d[a] = load(&l.ray_dir[a][first]);
+        valid &= (o[a] - o[a] == 0.0) & (d[a] - d[a] == 0.0);
+        zero_dir &= d[a] == 0.0;
+        inv_dir[a] = 1.0 / d[a];
+      }
+      Real shift = tmin, leave = tmax;
+      Mask walks = valid & ~zero_dir & clip(box, o, d, inv_dir, shift, leave);
+      // walk_slack.
+      Real largest = splat(box.magnitude), shortest_inverse = splat(kInf);
+      for (int a = 0; a < 3; ++a) {
+        largest = max(largest, fabs(o[a]));
+        shortest_inverse = min(shortest_inverse, fabs(inv_dir[a]));
+      }
+      const Real slack = 1e-9 * largest * shortest_inverse;
+      Real origin[3];
+      Mask is_far = Mask{};
+      const double near_range = WalkLine::kNearRange * box.magnitude;
+      for (int a = 0; a < 3; ++a) {
+        origin[a] = o[a] + shift * d[a];
+        is_far |= ~(fabs(o[a]) <= near_range);
+      }
+      Real t0 = tmin - shift - slack, t1 = splat(kInf);
+      walks &= clip(box, origin, d, inv_dir, t0, t1);
+      for (int a = 0; a < 3; ++a) {
+        store(&l.origin[a][first], origin[a]), store(&l.dir[a][first], d[a]);
+        store(&l.inv_dir[a][first], inv_dir[a]);
+      }
+      store(&l.shift[first], shift), store(&l.slack[first], slack);
+      store(&l.t0[first], t0), store(&l.t1[first], t1);
+      // The kind: the octant, and PreparedRay's kz (the largest magnitude, x before y before z).
+      const Real mx = fabs(d[0]), my = fabs(d[1]), mz = fabs(d[2]);
+      const Mask two = Mask{} + 2;
+      const Mask kz = mx >= my ? (mx >= mz ? Mask{} : two) : (my >= mz ? Mask{} + 1 : two);
+      Mask octant = Mask{};
+      for (int a = 0; a < 3; ++a) octant |= (Mask(d[a]) < 0) & (int64_t{1} << a);
+      store(&l.kind[first], narrow(octant | kz << 3));
+      started |= uint64_t(Lanes::bits(walks)) << first;
+      far |= uint64_t(Lanes::bits(is_far)) << first;
+    });
+    l.far = far & started;
+    return started & rays;
+  }
+
+  // PreparedRay, RayBoxes, box_test_start and set_stop (grid1d's records.h) for the packet.
+  static void prepare(PacketLines& l, uint64_t rays, const int axes[3], RayLanes& kernel_lanes,
+                      RayBoxLanes& box_lanes) {
+    const float infinity = std::numeric_limits<float>::infinity();
+    for_each_group(rays, [&](uint32_t first, uint32_t /*group*/) {
+      double* kernel_origin[3] = {kernel_lanes.ox, kernel_lanes.oy, kernel_lanes.oz};
+      for (int k = 0; k < 3; ++k) store(kernel_origin[k] + first, load(&l.origin[axes[k]][first]));
+      const Real sz = load(&l.inv_dir[axes[2]][first]);
+      store(kernel_lanes.sx + first, load(&l.dir[axes[0]][first]) * sz);
+      store(kernel_lanes.sy + first, load(&l.dir[axes[1]][first]) * sz);
+      store(kernel_lanes.sz + first, sz);
+      const Real shift = load(&l.shift[first]);
+      store(kernel_lanes.shift + first, shift);
+      const Float tmax = load_float(&l.tmax[first]);
+      store(kernel_lanes.tmin + first, load_float(&l.tmin[first]));
+      store(kernel_lanes.tmax + first, tmax);
+      // Far rays test no box: every box crossed (RayBoxes without culling).
+      const Int far = narrow(wide_lanes_of(l.far >> first));
+      for (int a = 0; a < 3; ++a) {
+        const Float origin = load_float(&l.ray_origin[a][first]);
+        store(&box_lanes.origin[a][first], far ? Float{} : origin);
+        store(&box_lanes.inv_dir[a][first],
+              far ? Float{} : 1.0f / load_float(&l.ray_dir[a][first]));
+      }
+      const Real stop =
+          __builtin_convertvector(next_float_up(tmax), Real) + load(&l.slack[first]) - shift;
+      store(&l.stop[first], stop);
+      store(&box_lanes.t0[first],
+            far ? Float{} - infinity : float_down(shift + load(&l.t0[first])));
+      store(&box_lanes.t1[first], far ? Float{} + infinity : float_up(shift + stop));
+    });
   }
 
   // The lane groups holding one of `rays`, by the number of their first ray.
@@ -110,7 +254,7 @@ struct LaneMath {
     return entering & rays;
   }
 
-  static PacketLaneOps ops() { return {cover, enter}; }
+  static PacketLaneOps ops() { return {start, prepare, cover, enter}; }
 };
 
 }  // namespace

@@ -85,23 +85,6 @@ inline void set_stop(const WalkLine& line, float tmax, double& stop, __m128& box
   box_test_end_t = box_test_end(line, stop);
 }
 
-// One ray of a packet (packet.cpp): what the single-ray walk's RayWalk holds about the ray
-// and its nearest hit, without the traversal states (a packet finds cells from walls).
-struct Grid1D::PacketRay {
-  PacketRay(const Ray& ray, const WalkLine& walk_line)
-      : line(walk_line),
-        prepared(ray, line.shift, line.inv_dir),
-        boxes(ray, !line.far),
-        t_lo(box_test_start(line)),
-        tmax(ray.tmax) {}
-  WalkLine line;
-  PreparedRay<KernelReal> prepared;
-  RayBoxes boxes;
-  __m128 t_lo, t_hi;  // t_hi: set with the stop distance, in the packet's PacketLines
-  float tmax;
-  Hit best;
-};
-
 // A ray's per-thread traversal scratch. Mailbox and state values belong to the thread: the
 // paper's per-object stamp would race between threads (docs/design.md §5). Cache-line
 // aligned: two threads' contexts must not share a line.
@@ -144,9 +127,8 @@ class alignas(64) Grid1D::Context final : public ThreadContext {
   // list (being cut by another thread, or left without a leaf block by the memory budget).
   std::vector<float> scratch_coords;
   std::vector<uint32_t> scratch_ids;
-  // The rays of the packet being traced (reserved once: kMaxPacketRays), its mailbox, and
-  // the rays searching a leaf in the rays-in-lanes forms of the kernel and the box test.
-  std::vector<PacketRay> packet;
+  // The rays of the packet being traced (packet_lanes.h), its mailbox, and the rays
+  // searching a leaf in the rays-in-lanes forms of the kernel and the box test.
   PacketLines packet_lines;
   PacketMailbox packet_mailbox;
   RayLanes ray_lanes;
