@@ -216,14 +216,16 @@ inline bool test_leaf(const LeafView& leaf, const Kernel& kernel,
   GRIDSCOPE_CHECK(kernel.lanes <= kMaxLanes && 8 % kernel.lanes == 0);
   bool found = false;
   for (uint32_t block = 0; block < leaf.count; block += 8) {
-    const uint32_t crossed = filter.crossed8(leaf, block);
     const uint32_t block_end = std::min(block + 8, leaf.count);
+    // Most boxes are missed: only the triangles whose box the ray crosses are looked at.
+    const uint32_t crossed = filter.crossed8(leaf, block) & ((1u << (block_end - block)) - 1u);
+    if (crossed == 0) continue;
     for (uint32_t first = block; first < block_end; first += kernel.lanes) {
-      const uint32_t width = std::min(kernel.lanes, block_end - first);
       uint32_t lanes = 0, tested = 0;
-      for (uint32_t j = 0; j < width; ++j) {
+      for (uint32_t left = crossed >> (first - block) & ((1u << kernel.lanes) - 1u); left != 0;
+           left &= left - 1) {
+        const auto j = uint32_t(std::countr_zero(left));
         const uint32_t id = leaf.ids[first + j];
-        if (!(crossed >> (first - block + j) & 1u)) continue;
         if (!(id & kOnlyHere) && mailbox.already_tested(id, ray_id)) {
           ++counters.mailbox_rejections;
           record.rejected();
