@@ -12,6 +12,7 @@ struct Sse2Lanes {
   typedef double Real __attribute__((vector_size(16)));
   typedef int64_t Mask __attribute__((vector_size(16)));
   typedef int32_t Int __attribute__((vector_size(8)));
+  typedef uint32_t UInt __attribute__((vector_size(8)));
   typedef float Float __attribute__((vector_size(8)));
   static uint32_t bits(Mask m) { return uint32_t(_mm_movemask_pd(__m128d(m))); }
 };

@@ -28,6 +28,7 @@ struct Avx2Lanes {
   typedef double Real __attribute__((vector_size(32)));
   typedef int64_t Mask __attribute__((vector_size(32)));
   typedef int32_t Int __attribute__((vector_size(16)));
+  typedef uint32_t UInt __attribute__((vector_size(16)));
   typedef float Float __attribute__((vector_size(16)));
   static uint32_t bits(Mask m) { return uint32_t(_mm256_movemask_pd(__m256d(m))); }
 };

@@ -29,6 +29,7 @@ struct Avx512Lanes {
   typedef double Real __attribute__((vector_size(64)));
   typedef int64_t Mask __attribute__((vector_size(64)));
   typedef int32_t Int __attribute__((vector_size(32)));
+  typedef uint32_t UInt __attribute__((vector_size(32)));
   typedef float Float __attribute__((vector_size(32)));
   static uint32_t bits(Mask m) { return uint32_t(_mm512_movepi64_mask(__m512i(m))); }
 };

@@ -23,6 +23,7 @@ struct LaneMath {
   using Mask = typename Lanes::Mask;    // a Real compare's result
   using Int = typename Lanes::Int;      // Lanes::kWidth int32
   using Float = typename Lanes::Float;  // Lanes::kWidth floats
+  using UInt = typename Lanes::UInt;    // Lanes::kWidth uint32
   static constexpr uint32_t kWidth = Lanes::kWidth;
   static constexpr uint64_t kGroup = (uint64_t{1} << kWidth) - 1;
 
@@ -66,10 +67,11 @@ struct LaneMath {
   }
 
   // next_float_up, float_down and float_up (core/geometry/clip_box.h), lane by lane.
+  // The bits as unsigned integers, as the scalar code has them: -0 minus one wraps.
   static Float next_float_up(Float f) {
-    const Int bits = Int(f);
-    Int up = f > 0.0f ? bits + 1 : bits - 1;
-    up = f == 0.0f ? Int{} + 1 : up;  // the smallest denormal
+    const UInt bits = UInt(f);
+    UInt up = f > 0.0f ? bits + 1u : bits - 1u;
+    up = f == 0.0f ? UInt{} + 1u : up;  // the smallest denormal
     return Float(f < std::numeric_limits<float>::infinity() ? up : bits);
   }
   static Float next_float_down(Float f) { return -next_float_up(-f); }
@@ -201,7 +203,9 @@ struct LaneMath {
   static Int locate(Real p, const NodeCells& node) {
     const Real cell = (p - node.origin) * node.scale - node.first;
     const Real last = splat(node.last);
-    const Real clamped = cell < 0.0 ? splat(0.0) : (last < cell ? last : cell);
+    // std::clamp's result for every number; a NaN (a lane no ray of the mask holds) goes to
+    // cell 0, so that the integer arithmetic after it cannot overflow.
+    const Real clamped = cell >= 0.0 ? (cell < last ? cell : last) : splat(0.0);
     return __builtin_convertvector(clamped, Int);
   }
 
