@@ -28,6 +28,11 @@ inline constexpr float kSlabGamma = 1.7881409e-7f;
 inline constexpr uint32_t box_stride(uint32_t count) { return (count + 3) & ~3u; }
 inline constexpr uint32_t box_floats(uint32_t count) { return 6 * box_stride(count) + 4; }
 
+// Which of the six arrays holds the face a ray meets first (near) and last (far) on axis
+// a: the lo faces (arrays 0..2) first unless the ray runs toward lo.
+inline uint32_t near_face_array(uint32_t a, bool toward_lo) { return toward_lo ? 3 + a : a; }
+inline uint32_t far_face_array(uint32_t a, bool toward_lo) { return toward_lo ? a : 3 + a; }
+
 // The slab test in four lanes, each a ray and a box (their near and far faces per axis):
 // whether the ray crosses the box somewhere in [t0, t1].
 inline uint32_t slab_test4(const __m128 near_face[3], const __m128 far_face[3],
@@ -62,8 +67,8 @@ struct RayBoxes {
       inv_dir[a] = _mm_set1_ps(cull ? 1.0f / ray.dir[a] : 0.0f);
       // -0 too: 1 / -0 = -inf, the ray meets the hi face first.
       const bool toward_lo = std::signbit(ray.dir[a]);
-      near_array[a] = toward_lo ? 3 + a : a;
-      far_array[a] = toward_lo ? a : 3 + a;
+      near_array[a] = near_face_array(a, toward_lo);
+      far_array[a] = far_face_array(a, toward_lo);
     }
   }
 

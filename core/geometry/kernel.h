@@ -44,6 +44,14 @@ struct WiderType<long double> {
 // The arithmetic of the kernel every structure uses.
 using KernelReal = double;
 
+// The two axes the ray is sheared along, after kz (its largest direction component):
+// the next two in cyclic order, swapped when the ray runs down kz to keep the winding.
+inline void shear_axes(int kz, bool down, int& kx, int& ky) {
+  kx = kz == 2 ? 0 : kz + 1;
+  ky = kx == 2 ? 0 : kx + 1;
+  if (down) std::swap(kx, ky);
+}
+
 // The per-ray part of the test: axis permutation and shear (section 3 of the paper). The
 // origin is first moved along the ray to where it enters the clip box (`shift`), so that
 // the kernel's rounding is relative to the scene's size rather than to how far away the
@@ -68,9 +76,7 @@ struct PreparedRay {
     for (int a = 0; a < 3; ++a) origin[a] = Real(double(o[a]) + shift_to * double(d[a]));
     const glm::vec3 mag = glm::abs(ray.dir);
     kz = (mag.x >= mag.y) ? (mag.x >= mag.z ? 0 : 2) : (mag.y >= mag.z ? 1 : 2);
-    kx = kz == 2 ? 0 : kz + 1;
-    ky = kx == 2 ? 0 : kx + 1;
-    if (d[kz] < 0.0f) std::swap(kx, ky);  // keep the winding
+    shear_axes(kz, d[kz] < 0.0f, kx, ky);
     sz = inv_dir && std::is_same_v<Real, double> ? Real(inv_dir[kz]) : Real(1) / Real(d[kz]);
     sx = Real(d[kx]) * sz;  // a product, not a quotient: one division per ray, not three
     sy = Real(d[ky]) * sz;

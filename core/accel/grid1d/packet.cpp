@@ -84,14 +84,12 @@ void Grid1D::trace_together(std::span<const Ray> rays, std::span<Hit> hits,
     // the winding when the ray runs down kz) and the box test's face order, from the kind.
     RayLanes& lanes = context.ray_lanes;
     lanes.kz = packet_kind >> 3;
-    lanes.kx = lanes.kz == 2 ? 0 : lanes.kz + 1;
-    lanes.ky = lanes.kx == 2 ? 0 : lanes.kx + 1;
-    if (packet_kind >> lanes.kz & 1) std::swap(lanes.kx, lanes.ky);
+    shear_axes(lanes.kz, packet_kind >> lanes.kz & 1, lanes.kx, lanes.ky);
     RayBoxLanes& box_lanes = context.ray_box_lanes;
-    for (int a = 0; a < 3; ++a) {
+    for (uint32_t a = 0; a < 3; ++a) {
       const bool toward_lo = packet_kind >> a & 1;
-      box_lanes.near_array[a] = toward_lo ? 3 + a : a;
-      box_lanes.far_array[a] = toward_lo ? a : 3 + a;
+      box_lanes.near_array[a] = near_face_array(a, toward_lo);
+      box_lanes.far_array[a] = far_face_array(a, toward_lo);
     }
     const int axes[3] = {lanes.kx, lanes.ky, lanes.kz};
     lane_ops_.prepare(lines, together, axes, lanes, box_lanes);
