@@ -231,8 +231,9 @@ TEST(BoxTest, NeverReportsAMissForACrossing) {
   EXPECT_GT(crossings, boxes_tested / 4);
 }
 
-// A packet's rays against one box, several at a time (RayBoxLanes, by every kernel this CPU
-// has: 4, 8 or 16 rays in lanes), say for every ray what the one-ray test (RayBoxes) says:
+// A packet's rays against one box or a run of boxes, several rays at a time (RayBoxLanes, by
+// every kernel this CPU has: 4, 8 or 16 rays in lanes), say for every ray and box what the
+// one-ray test (RayBoxes) says:
 // rays with the same direction signs (zero and -0 components among them, and rays from far
 // away, which every box passes), each over its own segment.
 TEST(BoxTest, RaysInLanesAgreeWithOneRayAtATime) {
@@ -241,10 +242,11 @@ TEST(BoxTest, RaysInLanesAgreeWithOneRayAtATime) {
   uint64_t agreed = 0, crossings = 0;
   for (int trial = 0; trial < 200; ++trial) {
     float soa[box_floats(4)] = {};
-    for (int a = 0; a < 3; ++a) {
-      const float x = unit(rng), y = unit(rng);
-      soa[a * 4] = std::min(x, y), soa[(a + 3) * 4] = std::max(x, y);
-    }
+    for (int box = 0; box < 4; ++box)
+      for (int a = 0; a < 3; ++a) {
+        const float x = unit(rng), y = unit(rng);
+        soa[a * 4 + box] = std::min(x, y), soa[(a + 3) * 4 + box] = std::max(x, y);
+      }
     const glm::vec3 signs(trial & 1 ? -1.0f : 1.0f, trial & 2 ? -1.0f : 1.0f,
                           trial & 4 ? -1.0f : 1.0f);
     RayBoxLanes lanes;
@@ -266,16 +268,22 @@ TEST(BoxTest, RaysInLanesAgreeWithOneRayAtATime) {
       lanes.set(r, one.back(), t0, t1);
     }
     const uint64_t mask = trial % 3 == 0 ? 0x0F0F00FF0000F0F1u : ~uint64_t{0};
+    // Boxes 1 .. 3 together, or box 2 alone.
+    const uint32_t first = 1 + trial % 2, count = trial % 2 ? 1 : 3;
     for (const Isa isa : supported_isas()) {
-      const uint64_t got = kernel_for(isa).rays_crossed(lanes, soa, 4, 0, mask);
-      EXPECT_EQ(got & ~mask, 0u);
-      for (uint32_t r = 0; r < 64; ++r) {
-        if (!(mask >> r & 1)) continue;
-        const bool expected = one[r].crossed4(soa, 4, 0, segments[r].t0, segments[r].t1) & 1u;
-        EXPECT_EQ(bool(got >> r & 1), expected)
-            << isa_name(isa) << ", trial " << trial << " ray " << r;
-        agreed += bool(got >> r & 1) == expected;
-        crossings += expected;
+      uint64_t got[4] = {};
+      kernel_for(isa).rays_crossed(lanes, soa, 4, first, count, mask, got);
+      for (uint32_t k = 0; k < count; ++k) {
+        EXPECT_EQ(got[k] & ~mask, 0u);
+        for (uint32_t r = 0; r < 64; ++r) {
+          if (!(mask >> r & 1)) continue;
+          const bool expected =
+              one[r].crossed4(soa, 4, 0, segments[r].t0, segments[r].t1) >> (first + k) & 1u;
+          EXPECT_EQ(bool(got[k] >> r & 1), expected)
+              << isa_name(isa) << ", trial " << trial << " box " << first + k << " ray " << r;
+          agreed += bool(got[k] >> r & 1) == expected;
+          crossings += expected;
+        }
       }
     }
   }

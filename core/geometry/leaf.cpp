@@ -141,9 +141,9 @@ void force_kernel_isa(Isa isa) {
   isa_chosen = true;
 }
 
-uint64_t rays_crossed_sse(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
-                          uint32_t box, uint64_t rays) {
-  return lanes.crossed(boxes, stride, box, rays);
+void rays_crossed_sse(const RayBoxLanes& lanes, const float* boxes, uint32_t stride, uint32_t first,
+                      uint32_t count, uint64_t rays, uint64_t* crossing) {
+  for (uint32_t k = 0; k < count; ++k) crossing[k] = lanes.crossed(boxes, stride, first + k, rays);
 }
 
 Kernel kernel_for(Isa isa) {

@@ -141,10 +141,12 @@ struct RayHits {
 using RayTest = uint64_t (*)(const LeafView& leaf, uint32_t tri, const RayLanes& rays,
                              uint64_t lanes, RayHits& out);
 
-// Of `rays` (bits), those whose lanes of `lanes` cross box `box` of `boxes` (box_test.h's
-// layout): RayBoxLanes::crossed, 4, 8 or 16 rays at a time by instruction set.
-using RaysCrossed = uint64_t (*)(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
-                                 uint32_t box, uint64_t rays);
+// For each of `count` boxes of `boxes` from box `first` on (box_test.h's layout), the rays
+// of `rays` (bits) whose lanes of `lanes` cross it: crossing[k] for box first + k.
+// RayBoxLanes::crossed, 4, 8 or 16 rays at a time by instruction set; each group of rays is
+// loaded once for all the boxes (a leaf's triangles are tested together).
+using RaysCrossed = void (*)(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
+                             uint32_t first, uint32_t count, uint64_t rays, uint64_t* crossing);
 
 struct Kernel {
   uint32_t lanes = 1;

@@ -130,34 +130,37 @@ uint64_t test_rays_avx2(const LeafView& leaf, uint32_t tri, const RayLanes& rays
   return hits;
 }
 
-uint64_t rays_crossed_avx2(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
-                           uint32_t box, uint64_t rays) {
+void rays_crossed_avx2(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
+                       uint32_t first, uint32_t count, uint64_t rays, uint64_t* crossing) {
   // slab_test4's operations, eight rays at a time.
   const __m256 outward_size = _mm256_set1_ps(3 * kSlabGamma), one = _mm256_set1_ps(1.0f),
                sign = _mm256_set1_ps(-0.0f);
-  __m256 near_face[3], far_face[3];
-  for (int a = 0; a < 3; ++a) {
-    near_face[a] = _mm256_set1_ps(boxes[lanes.near_array[a] * stride + box]);
-    far_face[a] = _mm256_set1_ps(boxes[lanes.far_array[a] * stride + box]);
-  }
-  uint64_t met = 0;
+  for (uint32_t k = 0; k < count; ++k) crossing[k] = 0;
   for (uint64_t left = rays; left != 0;) {
-    const uint32_t first = uint32_t(std::countr_zero(left)) & ~7u;
-    __m256 entry = _mm256_load_ps(lanes.t0 + first), exit = _mm256_load_ps(lanes.t1 + first);
-    for (int a = 0; a < 3; ++a) {
-      const __m256 origin = _mm256_load_ps(lanes.origin[a] + first);
-      const __m256 inv_dir = _mm256_load_ps(lanes.inv_dir[a] + first);
-      const __m256 t_near = _mm256_mul_ps(_mm256_sub_ps(near_face[a], origin), inv_dir);
-      const __m256 exact_far = _mm256_mul_ps(_mm256_sub_ps(far_face[a], origin), inv_dir);
-      const __m256 outward = _mm256_or_ps(_mm256_and_ps(exact_far, sign), outward_size);
-      const __m256 t_far = _mm256_mul_ps(exact_far, _mm256_add_ps(one, outward));
-      entry = _mm256_max_ps(t_near, entry);
-      exit = _mm256_min_ps(t_far, exit);
+    const uint32_t group = uint32_t(std::countr_zero(left)) & ~7u;
+    const __m256 t0 = _mm256_load_ps(lanes.t0 + group), t1 = _mm256_load_ps(lanes.t1 + group);
+    __m256 origin[3], inv_dir[3];
+    for (int a = 0; a < 3; ++a)
+      origin[a] = _mm256_load_ps(lanes.origin[a] + group),
+      inv_dir[a] = _mm256_load_ps(lanes.inv_dir[a] + group);
+    for (uint32_t k = 0; k < count; ++k) {
+      __m256 entry = t0, exit = t1;
+      for (int a = 0; a < 3; ++a) {
+        const __m256 near_face = _mm256_set1_ps(boxes[lanes.near_array[a] * stride + first + k]);
+        const __m256 far_face = _mm256_set1_ps(boxes[lanes.far_array[a] * stride + first + k]);
+        const __m256 t_near = _mm256_mul_ps(_mm256_sub_ps(near_face, origin[a]), inv_dir[a]);
+        const __m256 exact_far = _mm256_mul_ps(_mm256_sub_ps(far_face, origin[a]), inv_dir[a]);
+        const __m256 outward = _mm256_or_ps(_mm256_and_ps(exact_far, sign), outward_size);
+        const __m256 t_far = _mm256_mul_ps(exact_far, _mm256_add_ps(one, outward));
+        entry = _mm256_max_ps(t_near, entry);
+        exit = _mm256_min_ps(t_far, exit);
+      }
+      crossing[k] |= uint64_t(uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(entry, exit, _CMP_LE_OQ))))
+                     << group;
     }
-    met |= uint64_t(uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(entry, exit, _CMP_LE_OQ)))) << first;
-    left &= ~(uint64_t{255} << first);
+    left &= ~(uint64_t{255} << group);
   }
-  return met & rays;
+  for (uint32_t k = 0; k < count; ++k) crossing[k] &= rays;
 }
 
 }  // namespace gs

@@ -128,39 +128,41 @@ uint64_t test_rays_avx512(const LeafView& leaf, uint32_t tri, const RayLanes& ra
   return hits;
 }
 
-uint64_t rays_crossed_avx512(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
-                             uint32_t box, uint64_t rays) {
+void rays_crossed_avx512(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
+                         uint32_t first, uint32_t count, uint64_t rays, uint64_t* crossing) {
   // slab_test4's operations, sixteen rays at a time.
   const __m512 outward_size = _mm512_set1_ps(3 * kSlabGamma), one = _mm512_set1_ps(1.0f);
   const __m512i sign = _mm512_set1_epi32(int32_t(0x80000000u));
-  __m512 near_face[3], far_face[3];
-  for (int a = 0; a < 3; ++a) {
-    near_face[a] = _mm512_set1_ps(boxes[lanes.near_array[a] * stride + box]);
-    far_face[a] = _mm512_set1_ps(boxes[lanes.far_array[a] * stride + box]);
-  }
-  uint64_t met = 0;
+  for (uint32_t k = 0; k < count; ++k) crossing[k] = 0;
   for (uint64_t left = rays; left != 0;) {
-    const uint32_t first = uint32_t(std::countr_zero(left)) & ~15u;
-    __m512 entry = _mm512_load_ps(lanes.t0 + first), exit = _mm512_load_ps(lanes.t1 + first);
-    for (int a = 0; a < 3; ++a) {
-      const __m512 origin = _mm512_load_ps(lanes.origin[a] + first);
-      const __m512 inv_dir = _mm512_load_ps(lanes.inv_dir[a] + first);
-      const __m512 t_near = _mm512_mul_ps(_mm512_sub_ps(near_face[a], origin), inv_dir);
-      const __m512 exact_far = _mm512_mul_ps(_mm512_sub_ps(far_face[a], origin), inv_dir);
-      // The sign bit of exact_far on 3 gamma (AVX-512F has no float and/or: integer ones).
-      const __m512 outward = _mm512_castsi512_ps(
-          _mm512_or_si512(_mm512_and_si512(_mm512_castps_si512(exact_far), sign),
-                          _mm512_castps_si512(outward_size)));
-      const __m512 t_far = _mm512_mul_ps(exact_far, _mm512_add_ps(one, outward));
-      // Merge-masked with every lane on: GCC 12's _mm512_max_ps / _mm512_min_ps start from
-      // an undefined register and warn (maybe-uninitialized); the operation is the same.
-      entry = _mm512_mask_max_ps(entry, 0xFFFF, t_near, entry);
-      exit = _mm512_mask_min_ps(exit, 0xFFFF, t_far, exit);
+    const uint32_t group = uint32_t(std::countr_zero(left)) & ~15u;
+    const __m512 t0 = _mm512_load_ps(lanes.t0 + group), t1 = _mm512_load_ps(lanes.t1 + group);
+    __m512 origin[3], inv_dir[3];
+    for (int a = 0; a < 3; ++a)
+      origin[a] = _mm512_load_ps(lanes.origin[a] + group),
+      inv_dir[a] = _mm512_load_ps(lanes.inv_dir[a] + group);
+    for (uint32_t k = 0; k < count; ++k) {
+      __m512 entry = t0, exit = t1;
+      for (int a = 0; a < 3; ++a) {
+        const __m512 near_face = _mm512_set1_ps(boxes[lanes.near_array[a] * stride + first + k]);
+        const __m512 far_face = _mm512_set1_ps(boxes[lanes.far_array[a] * stride + first + k]);
+        const __m512 t_near = _mm512_mul_ps(_mm512_sub_ps(near_face, origin[a]), inv_dir[a]);
+        const __m512 exact_far = _mm512_mul_ps(_mm512_sub_ps(far_face, origin[a]), inv_dir[a]);
+        // The sign bit of exact_far on 3 gamma (AVX-512F has no float and/or: integer ones).
+        const __m512 outward = _mm512_castsi512_ps(
+            _mm512_or_si512(_mm512_and_si512(_mm512_castps_si512(exact_far), sign),
+                            _mm512_castps_si512(outward_size)));
+        const __m512 t_far = _mm512_mul_ps(exact_far, _mm512_add_ps(one, outward));
+        // Merge-masked with every lane on: GCC 12's _mm512_max_ps / _mm512_min_ps start from
+        // an undefined register and warn (maybe-uninitialized); the operation is the same.
+        entry = _mm512_mask_max_ps(entry, 0xFFFF, t_near, entry);
+        exit = _mm512_mask_min_ps(exit, 0xFFFF, t_far, exit);
+      }
+      crossing[k] |= uint64_t(_mm512_cmp_ps_mask(entry, exit, _CMP_LE_OQ)) << group;
     }
-    met |= uint64_t(_mm512_cmp_ps_mask(entry, exit, _CMP_LE_OQ)) << first;
-    left &= ~(uint64_t{0xFFFF} << first);
+    left &= ~(uint64_t{0xFFFF} << group);
   }
-  return met & rays;
+  for (uint32_t k = 0; k < count; ++k) crossing[k] &= rays;
 }
 
 }  // namespace gs

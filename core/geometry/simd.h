@@ -22,12 +22,12 @@ uint64_t test_rays_scalar(const LeafView& leaf, uint32_t tri, const RayLanes& ra
                           RayHits& out);
 
 // RaysCrossed with 4 (SSE), 8 and 16 rays in lanes.
-uint64_t rays_crossed_sse(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
-                          uint32_t box, uint64_t rays);
-uint64_t rays_crossed_avx2(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
-                           uint32_t box, uint64_t rays);
-uint64_t rays_crossed_avx512(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
-                             uint32_t box, uint64_t rays);
+void rays_crossed_sse(const RayBoxLanes& lanes, const float* boxes, uint32_t stride, uint32_t first,
+                      uint32_t count, uint64_t rays, uint64_t* crossing);
+void rays_crossed_avx2(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
+                       uint32_t first, uint32_t count, uint64_t rays, uint64_t* crossing);
+void rays_crossed_avx512(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
+                         uint32_t first, uint32_t count, uint64_t rays, uint64_t* crossing);
 
 // Lanes whose edge functions rounded to zero: the scalar kernel redoes them in wider
 // arithmetic (the paper's rule), so they are handed to it. Returns the lanes of `zero` it

@@ -193,8 +193,8 @@ void Grid1D::visit_node(uint32_t id, uint64_t rays, const double* t_in, const do
     }
     const uint64_t candidates = covering & ~walk.done;
     if (candidates == 0) continue;
-    const uint64_t meeting =
-        candidates & kernel_.rays_crossed(box_lanes, boxes, stride, uint32_t(cell), candidates);
+    uint64_t meeting;
+    kernel_.rays_crossed(box_lanes, boxes, stride, uint32_t(cell), 1, candidates, &meeting);
     if (meeting == 0) continue;
     const uint64_t entering = lane_ops_.enter(lines, b, cover, double(first + cell), meeting, t_in,
                                               t_out, child_in, child_out);
@@ -207,9 +207,11 @@ void Grid1D::visit_node(uint32_t id, uint64_t rays, const double* t_in, const do
 }
 
 // Each of `rays` not done searches the leaf (docs/design.md §6.9): triangle by triangle,
-// the rays that have not tested it yet (the packet's mailbox) and cross its box (as the
-// single-ray leaf loop filters, docs/design.md §6.7) are tested several at a time, rays in
-// lanes, each up to its own nearest hit; a hit moves the ray's stop distance in.
+// the rays that cross its box (as the single-ray leaf loop filters, docs/design.md §6.7) and
+// have not tested it yet (the packet's mailbox) are tested several at a time, rays in
+// lanes, each up to its own nearest hit; a hit moves the ray's stop distance in. The box
+// tests of a run of triangles are made together (each group of rays loaded once), with the
+// segments the rays had on entering the leaf: those change only after the search.
 template <bool AnyHit>
 void Grid1D::search_leaf(const LeafView& leaf, uint64_t rays, PacketWalk& walk) const {
   Context& context = walk.context;
@@ -219,14 +221,24 @@ void Grid1D::search_leaf(const LeafView& leaf, uint64_t rays, PacketWalk& walk) 
   RayHits& out = context.ray_hits;
   uint64_t searching = rays & ~walk.done, improved = 0;
   counters.traversal_steps += uint64_t(std::popcount(searching));
+  constexpr uint32_t kRun = 64;
+  uint64_t crossing[kRun];
   for (uint32_t i = 0; i < leaf.count && searching != 0; ++i) {
+    if (i % kRun == 0) {
+      const uint32_t run = std::min(kRun, leaf.count - i);
+      if (leaf.boxes)
+        kernel_.rays_crossed(box_lanes, leaf.boxes, box_stride(leaf.count), i, run, searching,
+                             crossing);
+      else
+        std::fill(crossing, crossing + run, searching);
+    }
+    const uint64_t crossers = searching & crossing[i % kRun];
+    if (crossers == 0) continue;
     const uint32_t id = leaf.ids[i];
     const uint64_t already =
-        id & kOnlyHere ? 0 : context.packet_mailbox.mark(id, walk.id, searching);
+        id & kOnlyHere ? 0 : context.packet_mailbox.mark(id, walk.id, crossers);
     counters.mailbox_rejections += uint64_t(std::popcount(already));
-    uint64_t testing = searching & ~already;
-    if (leaf.boxes)
-      testing &= kernel_.rays_crossed(box_lanes, leaf.boxes, box_stride(leaf.count), i, testing);
+    const uint64_t testing = crossers & ~already;
     if (testing == 0) continue;
     counters.intersection_tests += uint64_t(std::popcount(testing));
     const auto triangle = int32_t(leaf.id(i));
