@@ -265,28 +265,30 @@ TEST(Grid1DPackets, CoherentTilesWalkTogetherAndMatchBrute) {
   EXPECT_GT(counters.packet_step_rays, 2 * counters.packet_steps);
 }
 
-// Rays going another way than the packet's first ray (another octant) are traced one by one:
-// of four rays through the one triangle, three along +z and one along -z, one falls back,
-// and each gets the single-ray answer (a hit at t 0.5 from either side).
-TEST(Grid1DPackets, RaysGoingAnotherWayFallBackToSingleRays) {
+// Rays going different ways (octants) walk as one packet per way, and a way only one ray
+// takes is traced as a single ray: of seven rays through the one triangle, three along +z,
+// three along -z and one along +z but slightly toward -y, two packets of three walk and one
+// ray falls back; each gets the single-ray answer (a hit at t 0.5 from either side).
+TEST(Grid1DPackets, EachWayWalksAsItsOwnPacket) {
   Grid1D grid{AccelParams{}};
   grid.build(test::one_triangle());
-  std::vector<Ray> rays(4);
-  for (int i = 0; i < 4; ++i) {
-    rays[size_t(i)].origin = {0.1f + 0.05f * float(i), 0.2f, i == 2 ? 1.0f : -1.0f};
-    rays[size_t(i)].dir = {0.0f, 0.0f, i == 2 ? -2.0f : 2.0f};
+  std::vector<Ray> rays(7);
+  for (int i = 0; i < 7; ++i) {
+    const bool down = i % 2 == 0 && i != 0;  // rays 2, 4 and 6
+    rays[size_t(i)].origin = {0.1f + 0.04f * float(i), 0.2f, down ? 1.0f : -1.0f};
+    rays[size_t(i)].dir = {0.0f, i == 5 ? -0.001f : 0.0f, down ? -2.0f : 2.0f};
   }
   const auto context = grid.make_context();
-  std::vector<Hit> hits(4);
-  const std::vector<uint64_t> keys(4);
+  std::vector<Hit> hits(7);
+  const std::vector<uint64_t> keys(7);
   grid.trace_packet(rays, keys, hits, false, *context);
-  for (int i = 0; i < 4; ++i) {
+  for (int i = 0; i < 7; ++i) {
     EXPECT_EQ(hits[size_t(i)], grid.intersect(rays[size_t(i)], *context)) << "ray " << i;
     EXPECT_EQ(hits[size_t(i)].id, 0) << "ray " << i;
     EXPECT_FLOAT_EQ(hits[size_t(i)].t, 0.5f) << "ray " << i;
   }
-  EXPECT_EQ(context->counters.packets, 1u);
-  EXPECT_EQ(context->counters.packet_rays, 3u);
+  EXPECT_EQ(context->counters.packets, 2u);
+  EXPECT_EQ(context->counters.packet_rays, 6u);
   EXPECT_EQ(context->counters.packet_fallback_rays, 1u);
 }
 

@@ -150,6 +150,8 @@ class Grid1D final : public Accelerator {
   template <bool AnyHit>
   void trace_together(std::span<const Ray> rays, std::span<Hit> hits, Context& context) const;
   template <bool AnyHit>
+  void walk_together(uint64_t rays, int32_t kind, Hit* best, Context& context) const;
+  template <bool AnyHit>
   void visit(uint32_t ref, uint64_t rays, const double* t_in, const double* t_out,
              PacketWalk& walk) const;
   template <bool AnyHit>

@@ -58,10 +58,11 @@ void Grid1D::trace_packet(std::span<const Ray> rays, std::span<const uint64_t> /
     trace_together<false>(rays, hits, own);
 }
 
-// Rays going the way the packet's first ray goes (the same octant and dominant axis, so the
-// same order of cells and the same kernel axes) walk together; the others (and a packet of
-// one) are traced one at a time by the single-ray walk. A ray keeps its number in the
-// packet: masks and lanes are indexed by it.
+// Rays going the same way (the same octant and dominant axis, so the same order of cells
+// and the same kernel axes) walk together: one group per way, in the order of their first
+// rays, so that a tile astride the boundary of two ways walks as two packets. A way taken by
+// fewer than kMinPacketRays rays is traced a ray at a time by the single-ray walk. A ray
+// keeps its number in the packet: masks and lanes are indexed by it.
 template <bool AnyHit>
 void Grid1D::trace_together(std::span<const Ray> rays, std::span<Hit> hits,
                             Context& context) const {
@@ -69,40 +70,21 @@ void Grid1D::trace_together(std::span<const Ray> rays, std::span<Hit> hits,
   const auto count = uint32_t(rays.size());
   for (uint32_t i = 0; i < count; ++i) lines.set_ray(i, rays[i]);
   const uint64_t started = lane_ops_.start(input_.clip, count, lines);
-  uint64_t together = 0;
-  int32_t packet_kind = -1;  // octant and kz
-  for_each_ray(started, [&](uint32_t i) {
-    if (packet_kind < 0) packet_kind = lines.kind[i];
-    together |= uint64_t(lines.kind[i] == packet_kind) << i;
-  });
-  uint64_t single = started & ~together;
-  TraceCounters& counters = context.counters;
-  if (std::popcount(together) < int(kMinPacketRays)) single = started, together = 0;
+  uint64_t together = 0, single = 0;
   Hit best[kMaxRays];
-  if (together != 0) {
-    // The kernel's axes (PreparedRay: kz the largest component, then kx, ky, swapped to keep
-    // the winding when the ray runs down kz) and the box test's face order, from the kind.
-    RayLanes& lanes = context.ray_lanes;
-    lanes.kz = packet_kind >> 3;
-    shear_axes(lanes.kz, packet_kind >> lanes.kz & 1, lanes.kx, lanes.ky);
-    RayBoxLanes& box_lanes = context.ray_box_lanes;
-    for (uint32_t a = 0; a < 3; ++a) {
-      const bool toward_lo = packet_kind >> a & 1;
-      box_lanes.near_array[a] = near_face_array(a, toward_lo);
-      box_lanes.far_array[a] = far_face_array(a, toward_lo);
+  for (uint64_t left = started; left != 0;) {
+    const int32_t kind = lines.kind[std::countr_zero(left)];  // octant and kz
+    uint64_t group = 0;
+    for_each_ray(left, [&](uint32_t i) { group |= uint64_t(lines.kind[i] == kind) << i; });
+    left &= ~group;
+    if (std::popcount(group) < int(kMinPacketRays)) {
+      single |= group;
+      continue;
     }
-    const int axes[3] = {lanes.kx, lanes.ky, lanes.kz};
-    lane_ops_.prepare(lines, together, axes, lanes, box_lanes);
-    PacketWalk walk{
-        context, best, uint32_t(std::popcount(together)), context.packet_mailbox.next_packet(),
-        {},      0};
-    for (int a = 0; a < 3; ++a) walk.step[a] = packet_kind >> a & 1 ? -1 : 1;
-    for_each_ray(together, [&](uint32_t i) { best[i] = Hit{}; });
-    visit<AnyHit>(root_ref_.load(std::memory_order_acquire), together, lines.t0, lines.t1, walk);
-    ++counters.packets;
-    counters.packet_rays += walk.count;
+    walk_together<AnyHit>(group, kind, best, context);
+    together |= group;
   }
-  counters.packet_fallback_rays += uint64_t(std::popcount(single));
+  context.counters.packet_fallback_rays += uint64_t(std::popcount(single));
   for (uint32_t i = 0; i < count; ++i) {
     if (together >> i & 1)
       hits[i] = best[i];
@@ -111,6 +93,33 @@ void Grid1D::trace_together(std::span<const Ray> rays, std::span<Hit> hits,
     else
       hits[i] = Hit{};
   }
+}
+
+// Walks `rays` (started, all of one kind) as one packet from the root, leaving each ray's
+// answer in best[ray].
+template <bool AnyHit>
+void Grid1D::walk_together(uint64_t rays, int32_t kind, Hit* best, Context& context) const {
+  // The kernel's axes (PreparedRay: kz the largest component, then kx, ky, swapped to keep
+  // the winding when the ray runs down kz) and the box test's face order, from the kind.
+  RayLanes& lanes = context.ray_lanes;
+  lanes.kz = kind >> 3;
+  shear_axes(lanes.kz, kind >> lanes.kz & 1, lanes.kx, lanes.ky);
+  RayBoxLanes& box_lanes = context.ray_box_lanes;
+  for (uint32_t a = 0; a < 3; ++a) {
+    const bool toward_lo = kind >> a & 1;
+    box_lanes.near_array[a] = near_face_array(a, toward_lo);
+    box_lanes.far_array[a] = far_face_array(a, toward_lo);
+  }
+  PacketLines& lines = context.packet_lines;
+  const int axes[3] = {lanes.kx, lanes.ky, lanes.kz};
+  lane_ops_.prepare(lines, rays, axes, lanes, box_lanes);
+  PacketWalk walk{
+      context, best, uint32_t(std::popcount(rays)), context.packet_mailbox.next_packet(), {}, 0};
+  for (int a = 0; a < 3; ++a) walk.step[a] = kind >> a & 1 ? -1 : 1;
+  for_each_ray(rays, [&](uint32_t i) { best[i] = Hit{}; });
+  visit<AnyHit>(root_ref_.load(std::memory_order_acquire), rays, lines.t0, lines.t1, walk);
+  ++context.counters.packets;
+  context.counters.packet_rays += walk.count;
 }
 
 // Takes `rays` (a mask of the packet's rays, each inside the cell `ref` from t_in to t_out
