@@ -315,9 +315,9 @@ Parser rays_parser() {
                   job.camera ? *job.camera : frame_box(box, float(size.width) / size.height);
               std::vector<Ray> rays;
               rays.reserve(size_t(size.width) * size_t(size.height));
+              const PrimaryRays primary_ray(view, size.width, size.height);
               for (int y = 0; y < size.height; ++y)
-                for (int x = 0; x < size.width; ++x)
-                  rays.push_back(view.primary_ray(x, y, size.width, size.height));
+                for (int x = 0; x < size.width; ++x) rays.push_back(primary_ray(x, y));
               write_rays(job.out, rays);
               return 0;
             }};

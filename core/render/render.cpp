@@ -194,11 +194,12 @@ struct BlockShader {
     auto& surfaces = scratch.surfaces;
     auto& lambert = scratch.lambert;
     auto& lit = scratch.lit;
+    const PrimaryRays primary_ray(camera, w, h);
     for (size_t i = 0; i < n; ++i) {
       const uint32_t seed = mix_bits(uint32_t(pixels[i].y) * uint32_t(w) + uint32_t(pixels[i].x));
       const float jx = spp == 1 ? 0.5f : hashed_unit(seed, 2 * uint32_t(s));
       const float jy = spp == 1 ? 0.5f : hashed_unit(seed, 2 * uint32_t(s) + 1);
-      primary[i] = camera.primary_ray(pixels[i].x, pixels[i].y, w, h, jx, jy);
+      primary[i] = primary_ray(pixels[i].x, pixels[i].y, jx, jy);
       keys[i] = render_ray_key(settings, pixels[i].index, s, 0, RayKind::nearest);
     }
     cast_all({primary.data(), n}, {keys.data(), n}, {hits.data(), n}, RayKind::nearest);
@@ -390,8 +391,9 @@ void sample_image(const Scene& scene, Accelerator& accel, const Camera& camera,
                   const RenderSettings& settings) {
   const int w = settings.width, h = settings.height;
   std::vector<Ray> primaries;
+  const PrimaryRays primary_ray(camera, w, h);
   for (const size_t pixel : image_sample_pixels(w, h))
-    primaries.push_back(camera.primary_ray(int(pixel % size_t(w)), int(pixel / size_t(w)), w, h));
+    primaries.push_back(primary_ray(int(pixel % size_t(w)), int(pixel / size_t(w))));
   sample_image_rays(accel, scene, make_lighting(scene, camera, settings.light), primaries,
                     size_t(w) * size_t(h) * size_t(settings.spp));
 }

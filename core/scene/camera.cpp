@@ -83,15 +83,27 @@ glm::vec3 Camera::right() const { return glm::normalize(glm::cross(forward(), up
 glm::vec3 Camera::true_up() const { return glm::cross(right(), forward()); }
 
 Ray Camera::primary_ray(int px, int py, int width, int height, float jx, float jy) const {
-  const float half_height = float(std::tan(double(fov) * kPi / 360.0));
-  const float half_width = half_height * float(width) / float(height);
-  const float sx = ((float(px) + jx) / float(width) * 2.0f - 1.0f) * half_width;
-  const float sy = (1.0f - (float(py) + jy) / float(height) * 2.0f) * half_height;
-  const glm::vec3 f = forward();
-  const glm::vec3 r = glm::normalize(glm::cross(f, up));
+  return PrimaryRays(*this, width, height)(px, py, jx, jy);
+}
+
+PrimaryRays::PrimaryRays(const Camera& camera, int width, int height)
+    : eye_(camera.eye),
+      forward_(camera.forward()),
+      right_(glm::normalize(glm::cross(forward_, camera.up))),
+      up_(glm::cross(right_, forward_)),
+      half_width_(0.0f),
+      half_height_(float(std::tan(double(camera.fov) * kPi / 360.0))),
+      width_(width),
+      height_(height) {
+  half_width_ = half_height_ * float(width) / float(height);
+}
+
+Ray PrimaryRays::operator()(int px, int py, float jx, float jy) const {
+  const float sx = ((float(px) + jx) / float(width_) * 2.0f - 1.0f) * half_width_;
+  const float sy = (1.0f - (float(py) + jy) / float(height_) * 2.0f) * half_height_;
   Ray ray;
-  ray.origin = eye;
-  ray.dir = f + sx * r + sy * glm::cross(r, f);
+  ray.origin = eye_;
+  ray.dir = forward_ + sx * right_ + sy * up_;
   return ray;
 }
 

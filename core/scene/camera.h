@@ -25,6 +25,20 @@ struct Camera {
   glm::vec3 true_up() const;
 };
 
+// A camera's primary rays for one image size: what Camera::primary_ray derives from the
+// camera for every pixel (a tangent, two normalisations), derived once. The rays are
+// Camera::primary_ray's, bit for bit.
+class PrimaryRays {
+ public:
+  PrimaryRays(const Camera& camera, int width, int height);
+  Ray operator()(int px, int py, float jx = 0.5f, float jy = 0.5f) const;
+
+ private:
+  glm::vec3 eye_, forward_, right_, up_;
+  float half_width_, half_height_;
+  int width_, height_;
+};
+
 // Parses the string form. Keys may come in any order, each exactly once. Throws UsageError
 // for a missing or repeated part, a non-number, NaN or infinity, eye == target, an up vector
 // parallel to the view direction (or zero), or fov outside (0, 180).
