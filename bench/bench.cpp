@@ -1,6 +1,5 @@
 #include "bench/bench.h"
 
-#include <time.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -95,9 +94,7 @@ double load_average() {
 
 CpuUse cpu_use() {
   CpuUse use;
-  timespec own{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &own);
-  use.own_seconds = double(own.tv_sec) + 1e-9 * double(own.tv_nsec);
+  use.own_seconds = process_cpu_seconds();
   std::ifstream in("/proc/stat");
   std::string cpu;
   // user nice system idle iowait irq softirq steal: busy is all but idle and iowait.
@@ -114,8 +111,9 @@ CpuUse cpu_use() {
 // cores busy on average while it was measured.
 constexpr double kLoadedCores = 0.25;
 
-// Load figures of the warm renders, from `before` to now, `wall` seconds of them.
-void fill_load(json& record, double load_before, const CpuUse& before, double wall) {
+// Load figures of the warm renders, from `before` to now: `wall` seconds of them, in which
+// this process used `cpu` seconds of CPU time.
+void fill_load(json& record, double load_before, const CpuUse& before, double wall, double cpu) {
   const CpuUse after = cpu_use();
   const double own = after.own_seconds - before.own_seconds;
   const double others =
@@ -125,7 +123,7 @@ void fill_load(json& record, double load_before, const CpuUse& before, double wa
   record["load_before"] = load_before;
   record["others_busy_cores"] = others;
   record["under_load"] = others > kLoadedCores;
-  record["cpu_seconds"] = own;
+  record["cpu_seconds"] = cpu;
   record["wall_seconds"] = wall;
 }
 
@@ -335,14 +333,16 @@ Measurement measure(const RunInfo& run, const Config& config, const std::string&
   record["lazy_build_seconds"] = first.counters.lazy_build_seconds;
   result.image = std::move(first.image);
   std::vector<double> warm;
+  double warm_cpu = 0.0;
   RenderOutcome last;
   const double load_before = load_average();
   const CpuUse before = cpu_use();
   for (int r = 0; r < config.repetitions; ++r) {
     last = render_image(scene, *accel, config.camera, config.settings);
     warm.push_back(last.seconds);
+    warm_cpu += last.cpu_seconds;
   }
-  fill_load(record, load_before, before, std::accumulate(warm.begin(), warm.end(), 0.0));
+  fill_load(record, load_before, before, std::accumulate(warm.begin(), warm.end(), 0.0), warm_cpu);
   record["warm_seconds"] = warm;
   fill_times(record, median(warm), last.rays);
   fill_structure_figures(record, *accel, last);

@@ -209,8 +209,9 @@ TEST_F(BenchRunTest, ExactStructuresAgreeWithTheReferenceAndZeroIsTheFloor) {
         EXPECT_LE(r["tests_per_ray"].get<double>(), 1.0);
       }
       EXPECT_EQ(r["warm_seconds"].size(), size_t(r["repetitions"].get<int>()));
-      // The warm renders' wall time is the sum of the repetitions; their CPU time is spent by
-      // at most the run's threads (plus the clocks' granularity).
+      // The warm renders' wall time is the sum of the repetitions; their CPU time, taken over
+      // the same windows, is spent by at most the run's threads (plus the clocks'
+      // granularity).
       const double wall = r["wall_seconds"], cpu = r["cpu_seconds"];
       double sum = 0.0;
       for (const json& seconds : r["warm_seconds"]) sum += seconds.get<double>();

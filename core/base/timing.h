@@ -1,5 +1,8 @@
-// Wall-clock timing, one way everywhere: a steady clock, seconds as double.
+// Wall-clock timing, one way everywhere: a steady clock, seconds as double; and this
+// process's CPU time (all its threads), for the cores a timed piece of work kept busy.
 #pragma once
+#include <time.h>
+
 #include <algorithm>
 #include <chrono>
 #include <vector>
@@ -18,6 +21,13 @@ double seconds_of(Work&& work) {
   const auto start = Clock::now();
   work();
   return seconds_since(start);
+}
+
+// CPU seconds this process's threads have used so far.
+inline double process_cpu_seconds() {
+  timespec now{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+  return double(now.tv_sec) + 1e-9 * double(now.tv_nsec);
 }
 
 // The median of timed repetitions (the mean of the middle two for an even count); 0 for none.

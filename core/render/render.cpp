@@ -347,8 +347,10 @@ RenderOutcome render_rows(const Scene& scene, const Accelerator& accel, const Ca
     }
     rays.fetch_add(band_rays, std::memory_order_relaxed);
   };
+  const double cpu_start = process_cpu_seconds();
   outcome.seconds =
       seconds_of([&] { outcome.counters = trace_chunks(accel, bands, 1, settings.threads, rows); });
+  outcome.cpu_seconds = process_cpu_seconds() - cpu_start;
   outcome.rays = rays.load();
   return outcome;
 }

@@ -72,6 +72,9 @@ struct RenderOutcome {
   std::vector<PixelRecord> pixels;  // width * height, row-major from the top-left
   uint64_t rays = 0;                // primary plus shadow rays
   double seconds = 0.0;
+  // This process's CPU time (all threads) over the same window as `seconds`: the cores the
+  // trace kept busy, without the image's allocation around it.
+  double cpu_seconds = 0.0;
   TraceCounters counters;
 };
 
