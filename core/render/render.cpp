@@ -158,6 +158,8 @@ struct BlockShader {
   const Lighting& lighting;
   bool packets;
   const glm::vec3 forward = camera.forward();
+  // Set up once per band: a block may be a single pixel.
+  const PrimaryRays primary_ray{camera, settings.width, settings.height};
   // A block's rays and what they found, kept here rather than on each sample's stack: Ray,
   // Hit and the vectors initialise their members, kilobytes per sample of a single pixel.
   struct Scratch {
@@ -183,7 +185,7 @@ struct BlockShader {
                     PixelRecord* records) {
     static const glm::vec3 background =
         glm::vec3(kBackground[0], kBackground[1], kBackground[2]) / 255.0f;
-    const int w = settings.width, h = settings.height, spp = settings.spp;
+    const int w = settings.width, spp = settings.spp;
     const size_t n = pixels.size();
     auto& primary = scratch.primary;
     auto& shadow = scratch.shadow;
@@ -194,7 +196,6 @@ struct BlockShader {
     auto& surfaces = scratch.surfaces;
     auto& lambert = scratch.lambert;
     auto& lit = scratch.lit;
-    const PrimaryRays primary_ray(camera, w, h);
     for (size_t i = 0; i < n; ++i) {
       const uint32_t seed = mix_bits(uint32_t(pixels[i].y) * uint32_t(w) + uint32_t(pixels[i].x));
       const float jx = spp == 1 ? 0.5f : hashed_unit(seed, 2 * uint32_t(s));

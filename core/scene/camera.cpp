@@ -89,14 +89,12 @@ Ray Camera::primary_ray(int px, int py, int width, int height, float jx, float j
 PrimaryRays::PrimaryRays(const Camera& camera, int width, int height)
     : eye_(camera.eye),
       forward_(camera.forward()),
-      right_(glm::normalize(glm::cross(forward_, camera.up))),
-      up_(glm::cross(right_, forward_)),
-      half_width_(0.0f),
+      right_(camera.right()),
+      up_(camera.true_up()),
       half_height_(float(std::tan(double(camera.fov) * kPi / 360.0))),
+      half_width_(half_height_ * float(width) / float(height)),
       width_(width),
-      height_(height) {
-  half_width_ = half_height_ * float(width) / float(height);
-}
+      height_(height) {}
 
 Ray PrimaryRays::operator()(int px, int py, float jx, float jy) const {
   const float sx = ((float(px) + jx) / float(width_) * 2.0f - 1.0f) * half_width_;

@@ -35,7 +35,7 @@ class PrimaryRays {
 
  private:
   glm::vec3 eye_, forward_, right_, up_;
-  float half_width_, half_height_;
+  float half_height_, half_width_;
   int width_, height_;
 };
 
