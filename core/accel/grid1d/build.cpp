@@ -29,11 +29,16 @@ double surface_area(const double extent[3]) {
   return 2.0 * (extent[0] * extent[1] + extent[1] * extent[2] + extent[2] * extent[0]);
 }
 
-// Which cell of a cut a coordinate falls in, clamped to the voxel's own cells.
+// Which cell of a cut a coordinate falls in, clamped to the voxel's own cells: floor(v) -
+// first_cell for v = (x - origin) * scale. Computed as the walk's descent does, clamped first
+// and then truncated, which is floor for what is left and needs no library call on baseline
+// x86-64. The same cell: v - first_cell is exact (both are multiples of v's unit in the last
+// place, at most 1/8 below the 2^50 granularity cap), and a negative difference clamps to 0
+// either way.
 struct CellLocator {
   double origin, scale, first_cell, last_local;
   int64_t operator()(double x) const {
-    return int64_t(std::clamp(std::floor((x - origin) * scale) - first_cell, 0.0, last_local));
+    return int64_t(std::clamp((x - origin) * scale - first_cell, 0.0, last_local));
   }
 };
 
