@@ -220,6 +220,46 @@ TEST(Grid1DWalk, RecordsTheCellsTheWalkLooksAt) {
   RecordProperty("cells_recorded", int(cells));
 }
 
+// The stadium's cluster lies in a chain of voxels that each hold it whole in one cell (the
+// paper's teapot in a stadium), which the walk goes down without testing their cells' boxes
+// again. Rays from an eye inside the stadium toward the cluster, one at a time and in
+// packets, get brute force's answers, and the chain is there: voxels cut with exactly one
+// cell holding triangles, counted from the voxel records.
+TEST(Grid1DWalk, RaysGoDownTheStadiumsOneCellChainExactly) {
+  const Scene scene = test::stadium_scene(2500);
+  std::vector<Ray> rays;
+  const glm::vec3 eye(4.0f, 3.0f, 6.0f);
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) {
+      Ray ray;
+      ray.origin = eye;
+      ray.dir =
+          glm::vec3(1.5f * (float(x) - 31.5f) / 32.0f, 1.5f * (float(y) - 31.5f) / 32.0f, 0.0f) -
+          eye;
+      rays.push_back(ray);
+    }
+  const std::vector<Hit> expected = test::brute_answers(scene, rays);
+  size_t found = 0;
+  for (const Hit& hit : expected) found += hit.found();
+  ASSERT_GT(found, rays.size() / 4);
+  Grid1D grid{AccelParams{}};
+  grid.build(scene);
+  EXPECT_EQ(test::count_mismatches("one at a time", test::trace_all(grid, rays, 1), expected), 0u);
+  EXPECT_EQ(
+      test::count_mismatches("packets of 64", test::trace_all(grid, rays, 1, false, 64), expected),
+      0u);
+  int one_cell_voxels = 0;
+  for (uint32_t id = 0; id < grid.voxel_count(); ++id) {
+    const Grid1D::Voxel& voxel = grid.voxel(id);
+    if (voxel.status.load() != Grid1D::kSplit) continue;
+    int holding = 0;
+    for (uint32_t i = 0; i < voxel.granularity; ++i)
+      holding += grid.voxel(voxel.first_child + i).tri_count > 0;
+    one_cell_voxels += holding == 1;
+  }
+  EXPECT_GE(one_cell_voxels, 3);
+}
+
 // A packet whose rays all go one way walks together: a 64x64 view straight down onto the
 // sphere in its soup, in 8x8 tiles (the image's centre lines fall between tiles, so each
 // tile's rays share their direction signs, and z dominates every direction), gives brute's

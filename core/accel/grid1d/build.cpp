@@ -482,6 +482,7 @@ uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
   record.children = uint32_t(refs);
   record.boxes = uint32_t(boxes);
   record.granularity = uint16_t(g);
+  record.sole_cell = sole_cell(cut);
   record.axis = uint8_t(axis);
   node_voxels_[node] = id;
 
@@ -501,6 +502,17 @@ uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
   add_progress(progress_.triangles_sorted, voxels_[id].tri_count);
   raise_to(deepest_, region.depth + 1);
   return child_ref::make(child_ref::kNode, uint32_t(node));
+}
+
+// The one cell of a cut that holds triangles (Node::sole_cell), or Node::kManyCells.
+uint16_t Grid1D::sole_cell(const Cut& cut) {
+  uint16_t sole = Node::kManyCells;
+  for (int i = 0; i < cut.granularity; ++i) {
+    if (cut.tri_offsets[i + 1] == cut.tri_offsets[i]) continue;
+    if (sole != Node::kManyCells) return Node::kManyCells;
+    sole = uint16_t(i);
+  }
+  return sole;
 }
 
 // The cells' records: place, triangle counts, area estimate (§6.5), their references (empty

@@ -173,6 +173,7 @@ class Grid1D final : public Accelerator {
   bool sort_into_cells(uint32_t voxel, int axis, int g, const double lo[3], const double hi[3],
                        Cut& cut) const;
   uint32_t commit_cut(uint32_t voxel, const Cut& cut) const;
+  static uint16_t sole_cell(const Cut& cut);
   void link_children(uint32_t voxel, const Cut& cut, uint32_t first_child, uint32_t node) const;
   double estimated_rays(uint32_t voxel) const;
   uint32_t state_for(uint32_t axis, uint64_t granularity) const;

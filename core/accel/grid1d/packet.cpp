@@ -202,8 +202,9 @@ void Grid1D::visit_node(uint32_t id, uint64_t rays, const double* t_in, const do
     }
     const uint64_t candidates = covering & ~walk.done;
     if (candidates == 0) continue;
-    uint64_t meeting;
-    kernel_.rays_crossed(box_lanes, boxes, stride, uint32_t(cell), 1, candidates, &meeting);
+    uint64_t meeting = candidates;  // the sole cell: met one level up (Node::sole_cell)
+    if (cell != node.sole_cell)
+      kernel_.rays_crossed(box_lanes, boxes, stride, uint32_t(cell), 1, candidates, &meeting);
     if (meeting == 0) continue;
     const uint64_t entering = lane_ops_.enter(lines, b, cover, double(first + cell), meeting, t_in,
                                               t_out, child_in, child_out);

@@ -170,7 +170,8 @@ bool Grid1D::enter(Cursor& cursor, RayWalk& walk, Context& context, Recorder& re
     }
     const uint32_t id = child_ref::payload(cursor.ref);
     const int64_t local = descend(id, cursor.t, cursor.entered, walk, context, recorder);
-    const int64_t cell = seek(id, local, true, cursor, walk, context);
+    const int64_t cell =
+        local == nodes_[id].sole_cell ? local : seek(id, local, true, cursor, walk, context);
     if (cell < 0) {
       recorder.discard_descents();
       return false;
