@@ -37,11 +37,12 @@ struct alignas(64) Grid1D::Node {
   // walk tests all of them at once and steps only into cells whose contents the ray meets.
   uint32_t boxes;
   uint16_t granularity;
-  // The one cell that holds triangles, or kManyCells. A ray that is in it was found to meet
-  // the voxel's contents one level up (the parent's test of this voxel's content box), and
-  // its contents are all of the voxel's: the walk goes down into it without testing it again.
-  // This is the paper's teapot in a stadium: a chain of voxels, each holding the whole
-  // cluster in one cell, that every ray toward the cluster crosses.
+  // The one cell that holds triangles, or kManyCells. Its contents are all of the voxel's,
+  // whose box the walk found the ray to meet when it chose the voxel (one level up, or
+  // further up a chain of such voxels): the walk goes down into it without testing its box
+  // again. Skipping a box test never changes an answer; the tests only pass over cells. This
+  // is the paper's teapot in a stadium: a chain of voxels, each holding the whole cluster in
+  // one cell, that every ray toward the cluster crosses.
   uint16_t sole_cell;
   uint8_t axis;
   static constexpr uint16_t kManyCells = UINT16_MAX;
