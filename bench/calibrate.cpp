@@ -412,9 +412,10 @@ json validate(const CostFit& fit, double share) {
   for (const std::string name : kBuiltinScenes) {
     const Scene scene = make_builtin_scene(name);
     const Camera camera = frame_box(scene.bounds());
+    const PrimaryRays primary_ray(camera, kSide, kSide);
     std::vector<Ray> rays;
     for (int y = 0; y < kSide; ++y)
-      for (int x = 0; x < kSide; ++x) rays.push_back(camera.primary_ray(x, y, kSide, kSide));
+      for (int x = 0; x < kSide; ++x) rays.push_back(primary_ray(x, y));
     const std::unique_ptr<Accelerator> grid = make_accelerator("grid1d", AccelParams{});
     grid->build(scene);
     sample_run(*grid, image_sample(rays, kSide, kSide), rays.size());
