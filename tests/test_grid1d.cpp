@@ -232,11 +232,13 @@ TEST(Grid1DWalk, RecordsTheCellsTheWalkLooksAt) {
 }
 
 // The stadium's cluster lies in a chain of voxels that each hold it whole in one cell (the
-// paper's teapot in a stadium), which the walk goes down without testing their cells' boxes
-// again. Rays from an eye inside the stadium toward the cluster, one at a time and in
-// packets, get brute force's answers, and the chain is there: voxels cut with exactly one
-// cell holding triangles, counted from the voxel records.
-TEST(Grid1DWalk, RaysGoDownTheStadiumsOneCellChainExactly) {
+// paper's teapot in a stadium). The chain's top cell refers to the chain's bottom, so the
+// walk goes from there straight into the cluster. Rays from an eye inside the stadium toward
+// the cluster, one at a time and in packets, lazily and eagerly built, get brute force's
+// answers; the chain is there (voxels cut with exactly one cell holding triangles, counted
+// from the voxel records), and no recorded walk goes down into one of its voxels, although
+// the walks that hit go down below them.
+TEST(Grid1DWalk, RaysGoFromTheStadiumsChainStraightIntoTheCluster) {
   const Scene scene = test::stadium_scene(2500);
   std::vector<Ray> rays;
   const glm::vec3 eye(4.0f, 3.0f, 6.0f);
@@ -256,16 +258,38 @@ TEST(Grid1DWalk, RaysGoDownTheStadiumsOneCellChainExactly) {
   EXPECT_EQ(
       test::count_mismatches("packets of 64", test::trace_all(grid, rays, 1, false, 64), expected),
       0u);
-  int one_cell_voxels = 0;
+  Grid1D eager{AccelParams{}};
+  eager.build(scene);
+  eager.build_all();
+  EXPECT_EQ(test::count_mismatches("eager", test::trace_all(eager, rays, 2), expected), 0u);
+  std::vector<bool> chain(grid.voxel_count(), false);
+  uint32_t chain_depth = 0;
   for (uint32_t id = 0; id < grid.voxel_count(); ++id) {
     const Grid1D::Voxel& voxel = grid.voxel(id);
     if (voxel.status.load() != Grid1D::kSplit) continue;
     int holding = 0;
     for (uint32_t i = 0; i < voxel.granularity; ++i)
       holding += grid.voxel(voxel.first_child + i).tri_count > 0;
-    one_cell_voxels += holding == 1;
+    chain[id] = holding == 1;
+    if (chain[id]) chain_depth = std::max(chain_depth, grid.voxel_depth(id));
   }
-  EXPECT_GE(one_cell_voxels, 3);
+  EXPECT_GE(std::count(chain.begin(), chain.end(), true), 3);
+  const auto context = grid.make_context();
+  uint64_t descents = 0, below_chain = 0;
+  for (size_t i = 0; i < rays.size(); i += 7) {
+    const std::optional<Walk> walk = grid.record_walk(rays[i], *context);
+    ASSERT_TRUE(walk.has_value());
+    EXPECT_EQ(walk->hit.id, expected[i].id) << "ray " << i;
+    for (const WalkCell& cell : walk->cells)
+      for (const WalkDescent& descent : cell.descents) {
+        ++descents;
+        EXPECT_FALSE(chain[descent.voxel])
+            << "ray " << i << " went down into chain voxel " << descent.voxel;
+        below_chain += descent.depth > chain_depth;
+      }
+  }
+  EXPECT_GT(descents, 0u);
+  EXPECT_GT(below_chain, 0u);
 }
 
 // A packet whose rays all go one way walks together: a 64x64 view straight down onto the

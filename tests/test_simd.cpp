@@ -231,6 +231,54 @@ TEST(BoxTest, NeverReportsAMissForACrossing) {
   EXPECT_GT(crossings, boxes_tested / 4);
 }
 
+// One ray against a run of a leaf's boxes, 4, 8 or 16 at a time (Kernel::boxes_crossed, by
+// every kernel this CPU has), says for every box what the four-at-a-time test
+// (RayBoxes::crossed4) says: runs of 1 to 64 boxes from every offset of blocks of up to 80,
+// the last box of a block at the end of its storage (masked reads stay inside), rays with
+// zero and -0 components and rays from far away, over segments that start before the ray.
+TEST(BoxTest, BoxesInWideLanesAgreeWithFourAtATime) {
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  uint64_t compared = 0, crossings = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const auto count = uint32_t(1 + trial % 80);
+    const uint32_t stride = box_stride(count);
+    std::vector<float> soa(box_floats(count));
+    for (uint32_t box = 0; box < count; ++box)
+      for (int a = 0; a < 3; ++a) {
+        const float x = unit(rng), y = unit(rng);
+        soa[a * stride + box] = std::min(x, y), soa[(a + 3) * stride + box] = std::max(x, y);
+      }
+    // The wide tests read no further than the last box's own floats (the SSE one reads
+    // whole fours: box_floats' padding).
+    std::vector<float> tight(soa.begin(), soa.begin() + 5 * stride + count);
+    Ray ray;
+    ray.origin = {2.0f * unit(rng), 2.0f * unit(rng), 2.0f * unit(rng)};
+    ray.dir = {unit(rng), unit(rng), unit(rng)};
+    if (trial % 9 == 0) ray.dir[trial % 3] = trial % 2 ? 0.0f : -0.0f;
+    const RayBoxes one(ray, trial % 17 != 0);
+    const __m128 t0 = _mm_set1_ps(trial % 5 == 0 ? -1.0f : 0.0f);
+    const __m128 t1 = _mm_set1_ps(trial % 7 == 0 ? 0.5f : 1e30f);
+    for (uint32_t first = 0; first < count; first += 1 + trial % 5) {
+      const uint32_t run = std::min<uint32_t>(count - first, 1 + (first * 7 + trial) % 64);
+      for (const Isa isa : supported_isas()) {
+        const float* boxes = isa == Isa::scalar ? soa.data() : tight.data();
+        const uint64_t got = kernel_for(isa).boxes_crossed(one, boxes, stride, first, run, t0, t1);
+        EXPECT_EQ(run == 64 ? 0u : got >> run, 0u) << isa_name(isa);
+        for (uint32_t k = 0; k < run; ++k) {
+          const bool expected = one.crossed4(soa.data(), stride, first + k, t0, t1) & 1u;
+          EXPECT_EQ(bool(got >> k & 1), expected)
+              << isa_name(isa) << ", trial " << trial << " box " << first + k;
+          ++compared;
+          crossings += expected;
+        }
+      }
+    }
+  }
+  EXPECT_GT(crossings, compared / 20);
+  EXPECT_LT(crossings, compared);
+}
+
 // A packet's rays against one box or a run of boxes, several rays at a time (RayBoxLanes, by
 // every kernel this CPU has: 4, 8 or 16 rays in lanes), say for every ray and box what the
 // one-ray test (RayBoxes) says:

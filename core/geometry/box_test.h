@@ -28,6 +28,16 @@ inline constexpr float kSlabGamma = 1.7881409e-7f;
 inline constexpr uint32_t box_stride(uint32_t count) { return (count + 3) & ~3u; }
 inline constexpr uint32_t box_floats(uint32_t count) { return 6 * box_stride(count) + 4; }
 
+// Boxes in groups of four: group k holds boxes 4k .. 4k + 3 in the layout above with stride
+// 4 (24 floats: lo.x of the four, lo.y, ..., hi.z), so that a test of a group reads 96
+// consecutive bytes at a fixed offset per face; `count` boxes take grouped_box_floats(count)
+// floats, the last group padded with empty boxes. The 1D grid's nodes keep their cells'
+// content boxes so (docs/design.md §1.3).
+inline constexpr uint32_t grouped_box_floats(uint32_t count) { return 6 * box_stride(count); }
+// The group holding box `box` of grouped boxes, and the box's lane in it.
+inline const float* box_group(const float* boxes, uint32_t box) { return boxes + 6 * (box & ~3u); }
+inline uint32_t box_lane(uint32_t box) { return box & 3u; }
+
 // Which of the six arrays holds the face a ray meets first (near) and last (far) on axis
 // a: the lo faces (arrays 0..2) first unless the ray runs toward lo.
 inline uint32_t near_face_array(uint32_t a, bool toward_lo) { return toward_lo ? 3 + a : a; }
@@ -82,6 +92,10 @@ struct RayBoxes {
       far_face[a] = _mm_loadu_ps(boxes + far_array[a] * stride + first);
     }
     return slab_test4(near_face, far_face, origin, inv_dir, t0, t1);
+  }
+  // Bits 0..3 for the four boxes of a group of grouped boxes (box_group).
+  uint32_t crossed_group(const float* group, __m128 t0, __m128 t1) const {
+    return crossed4(group, 4, 0, t0, t1);
   }
 };
 

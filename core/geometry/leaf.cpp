@@ -149,13 +149,21 @@ void rays_crossed_sse(const RayBoxLanes& lanes, const float* boxes, uint32_t str
 Kernel kernel_for(Isa isa) {
   switch (isa) {
     case Isa::avx2:
-      return {4, test_lanes_avx2, test_rays_avx2, rays_crossed_avx2};
+      return {4, test_lanes_avx2, test_rays_avx2, rays_crossed_avx2, boxes_crossed_avx2};
     case Isa::avx512:
-      return {8, test_lanes_avx512, test_rays_avx512, rays_crossed_avx512};
+      return {8, test_lanes_avx512, test_rays_avx512, rays_crossed_avx512, boxes_crossed_avx512};
     case Isa::scalar:
       break;
   }
-  return {1, test_lanes_scalar, test_rays_scalar, rays_crossed_sse};
+  return {1, test_lanes_scalar, test_rays_scalar, rays_crossed_sse, boxes_crossed_sse};
+}
+
+uint64_t boxes_crossed_sse(const RayBoxes& ray, const float* boxes, uint32_t stride, uint32_t first,
+                           uint32_t count, __m128 t0, __m128 t1) {
+  uint64_t met = 0;
+  for (uint32_t k = 0; k < count; k += 4)
+    met |= uint64_t(ray.crossed4(boxes, stride, first + k, t0, t1)) << k;
+  return count == 64 ? met : met & ((uint64_t{1} << count) - 1);
 }
 
 }  // namespace gs

@@ -148,11 +148,20 @@ using RayTest = uint64_t (*)(const LeafView& leaf, uint32_t tri, const RayLanes&
 using RaysCrossed = void (*)(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
                              uint32_t first, uint32_t count, uint64_t rays, uint64_t* crossing);
 
+// Of `count` (1..64) boxes of `boxes` from box `first` on (box_test.h's layout, stride
+// `stride`), those that one ray crosses within [t0, t1]: bit k for box first + k, none past
+// `count`. RayBoxes::crossed4's test 4, 8 or 16 boxes at a time by instruction set, each
+// lane the same operations, so every bit is crossed4's (a leaf's triangles are filtered in
+// a few wide tests).
+using BoxesCrossed = uint64_t (*)(const RayBoxes& ray, const float* boxes, uint32_t stride,
+                                  uint32_t first, uint32_t count, __m128 t0, __m128 t1);
+
 struct Kernel {
   uint32_t lanes = 1;
   LaneTest test = nullptr;
   RayTest test_rays = nullptr;
   RaysCrossed rays_crossed = nullptr;
+  BoxesCrossed boxes_crossed = nullptr;
 };
 Kernel kernel_for(Isa isa);
 
@@ -189,43 +198,42 @@ struct BoxFilter {
   const RayBoxes* boxes = nullptr;
   __m128 t_lo = _mm_setzero_ps(), t_hi = _mm_setzero_ps();
 
-  // Bits 0..7 for triangles first .. first + 7 whose box the ray's segment crosses (all of
-  // them without a filter or boxes); bits past the leaf's end are not cleared.
   // A walk that keeps the segment as it was at the start, up to the ray's tmax (the filter
   // then culls a little less once a hit is found).
   static BoxFilter up_to_tmax(const RayBoxes& boxes, const WalkLine& line, float tmax) {
     return {&boxes, box_test_start(line), box_test_end(line, line.stop(tmax))};
   }
-  uint32_t crossed8(const LeafView& leaf, uint32_t first) const {
-    if (!boxes || !leaf.boxes) return 0xFFu;
-    const uint32_t stride = box_stride(leaf.count);
-    uint32_t met = boxes->crossed4(leaf.boxes, stride, first, t_lo, t_hi);
-    if (first + 4 < leaf.count)
-      met |= boxes->crossed4(leaf.boxes, stride, first + 4, t_lo, t_hi) << 4;
-    return met;
+  // Bits 0..count-1 (count <= 64) for triangles first .. first + count - 1 whose box the
+  // ray's segment crosses (all of them without a filter or boxes).
+  uint64_t crossed(const Kernel& kernel, const LeafView& leaf, uint32_t first,
+                   uint32_t count) const {
+    if (!boxes || !leaf.boxes) return count == 64 ? ~uint64_t{0} : (uint64_t{1} << count) - 1;
+    return kernel.boxes_crossed(*boxes, leaf.boxes, box_stride(leaf.count), first, count, t_lo,
+                                t_hi);
   }
 };
 
 // Tests the leaf's triangles this ray has not tested yet and whose boxes it crosses
 // (`filter`), keeping `best` the nearest hit (lowest id among equal t; docs/design.md §6.4)
 // and `tmax` its t. Returns true when one of them became the nearest hit (AnyHit: when one
-// blocks the ray, which ends the search).
+// blocks the ray, which ends the search). Triangles go to the kernel in its groups of
+// kernel.lanes, in order; a group none of whose boxes the ray crosses is passed over.
 template <bool AnyHit, class Record = NoLeafRecord>
 inline bool test_leaf(const LeafView& leaf, const Kernel& kernel,
                       const PreparedRay<KernelReal>& ray, const BoxFilter& filter, uint64_t ray_id,
                       float& tmax, Hit& best, Mailbox& mailbox, TraceCounters& counters,
                       Record&& record = {}) {
-  GRIDSCOPE_CHECK(kernel.lanes <= kMaxLanes && 8 % kernel.lanes == 0);
+  GRIDSCOPE_CHECK(kernel.lanes <= kMaxLanes && 64 % kernel.lanes == 0);
+  const uint32_t group = (1u << kernel.lanes) - 1u;
   bool found = false;
-  for (uint32_t block = 0; block < leaf.count; block += 8) {
-    const uint32_t block_end = std::min(block + 8, leaf.count);
+  for (uint32_t block = 0; block < leaf.count; block += 64) {
     // Most boxes are missed: only the triangles whose box the ray crosses are looked at.
-    const uint32_t crossed = filter.crossed8(leaf, block) & ((1u << (block_end - block)) - 1u);
-    if (crossed == 0) continue;
-    for (uint32_t first = block; first < block_end; first += kernel.lanes) {
+    for (uint64_t crossed = filter.crossed(kernel, leaf, block, std::min(64u, leaf.count - block));
+         crossed != 0;) {
+      const uint32_t offset = uint32_t(std::countr_zero(crossed)) & ~(kernel.lanes - 1u);
+      const uint32_t first = block + offset;
       uint32_t lanes = 0, tested = 0;
-      for (uint32_t left = crossed >> (first - block) & ((1u << kernel.lanes) - 1u); left != 0;
-           left &= left - 1) {
+      for (uint32_t left = uint32_t(crossed >> offset) & group; left != 0; left &= left - 1) {
         const auto j = uint32_t(std::countr_zero(left));
         const uint32_t id = leaf.ids[first + j];
         if (!(id & kOnlyHere) && mailbox.already_tested(id, ray_id)) {
@@ -236,6 +244,7 @@ inline bool test_leaf(const LeafView& leaf, const Kernel& kernel,
           ++tested;
         }
       }
+      crossed &= ~(uint64_t{group} << offset);
       if (lanes == 0) continue;
       counters.intersection_tests += tested;
       record.tested(tested);

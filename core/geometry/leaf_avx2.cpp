@@ -163,6 +163,39 @@ void rays_crossed_avx2(const RayBoxLanes& lanes, const float* boxes, uint32_t st
   for (uint32_t k = 0; k < count; ++k) crossing[k] &= rays;
 }
 
+uint64_t boxes_crossed_avx2(const RayBoxes& ray, const float* boxes, uint32_t stride,
+                            uint32_t first, uint32_t count, __m128 t0, __m128 t1) {
+  // slab_test4's operations, eight boxes at a time; the last eight read only boxes below
+  // `count` (masked loads: the block may end at the end of its storage).
+  const __m256 outward_size = _mm256_set1_ps(3 * kSlabGamma), one = _mm256_set1_ps(1.0f),
+               sign = _mm256_set1_ps(-0.0f);
+  __m256 origin[3], inv_dir[3];
+  for (int a = 0; a < 3; ++a)
+    origin[a] = _mm256_set1_ps(_mm_cvtss_f32(ray.origin[a])),
+    inv_dir[a] = _mm256_set1_ps(_mm_cvtss_f32(ray.inv_dir[a]));
+  const __m256 start = _mm256_set1_ps(_mm_cvtss_f32(t0)), end = _mm256_set1_ps(_mm_cvtss_f32(t1));
+  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  uint64_t met = 0;
+  for (uint32_t k = 0; k < count; k += 8) {
+    const __m256i load = _mm256_cmpgt_epi32(_mm256_set1_epi32(int(count - k)), lane);
+    __m256 entry = start, exit = end;
+    for (int a = 0; a < 3; ++a) {
+      const __m256 near_face =
+          _mm256_maskload_ps(boxes + ray.near_array[a] * stride + first + k, load);
+      const __m256 far_face =
+          _mm256_maskload_ps(boxes + ray.far_array[a] * stride + first + k, load);
+      const __m256 t_near = _mm256_mul_ps(_mm256_sub_ps(near_face, origin[a]), inv_dir[a]);
+      const __m256 exact_far = _mm256_mul_ps(_mm256_sub_ps(far_face, origin[a]), inv_dir[a]);
+      const __m256 outward = _mm256_or_ps(_mm256_and_ps(exact_far, sign), outward_size);
+      const __m256 t_far = _mm256_mul_ps(exact_far, _mm256_add_ps(one, outward));
+      entry = _mm256_max_ps(t_near, entry);
+      exit = _mm256_min_ps(t_far, exit);
+    }
+    met |= uint64_t(uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(entry, exit, _CMP_LE_OQ)))) << k;
+  }
+  return count == 64 ? met : met & ((uint64_t{1} << count) - 1);
+}
+
 }  // namespace gs
 
 #if defined(__clang__)

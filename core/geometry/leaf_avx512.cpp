@@ -165,6 +165,41 @@ void rays_crossed_avx512(const RayBoxLanes& lanes, const float* boxes, uint32_t 
   for (uint32_t k = 0; k < count; ++k) crossing[k] &= rays;
 }
 
+uint64_t boxes_crossed_avx512(const RayBoxes& ray, const float* boxes, uint32_t stride,
+                              uint32_t first, uint32_t count, __m128 t0, __m128 t1) {
+  // slab_test4's operations, sixteen boxes at a time; masked loads read only boxes below
+  // `count` (the block may end at the end of its storage).
+  const __m512 outward_size = _mm512_set1_ps(3 * kSlabGamma), one = _mm512_set1_ps(1.0f);
+  const __m512i sign = _mm512_set1_epi32(int32_t(0x80000000u));
+  __m512 origin[3], inv_dir[3];
+  for (int a = 0; a < 3; ++a)
+    origin[a] = _mm512_set1_ps(_mm_cvtss_f32(ray.origin[a])),
+    inv_dir[a] = _mm512_set1_ps(_mm_cvtss_f32(ray.inv_dir[a]));
+  const __m512 start = _mm512_set1_ps(_mm_cvtss_f32(t0)), end = _mm512_set1_ps(_mm_cvtss_f32(t1));
+  uint64_t met = 0;
+  for (uint32_t k = 0; k < count; k += 16) {
+    const __mmask16 load = count - k >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << (count - k)) - 1);
+    __m512 entry = start, exit = end;
+    for (int a = 0; a < 3; ++a) {
+      const __m512 near_face =
+          _mm512_maskz_loadu_ps(load, boxes + ray.near_array[a] * stride + first + k);
+      const __m512 far_face =
+          _mm512_maskz_loadu_ps(load, boxes + ray.far_array[a] * stride + first + k);
+      const __m512 t_near = _mm512_mul_ps(_mm512_sub_ps(near_face, origin[a]), inv_dir[a]);
+      const __m512 exact_far = _mm512_mul_ps(_mm512_sub_ps(far_face, origin[a]), inv_dir[a]);
+      const __m512 outward = _mm512_castsi512_ps(
+          _mm512_or_si512(_mm512_and_si512(_mm512_castps_si512(exact_far), sign),
+                          _mm512_castps_si512(outward_size)));
+      const __m512 t_far = _mm512_mul_ps(exact_far, _mm512_add_ps(one, outward));
+      // Merge-masked with every lane on, as in rays_crossed_avx512.
+      entry = _mm512_mask_max_ps(entry, 0xFFFF, t_near, entry);
+      exit = _mm512_mask_min_ps(exit, 0xFFFF, t_far, exit);
+    }
+    met |= uint64_t(_mm512_mask_cmp_ps_mask(load, entry, exit, _CMP_LE_OQ)) << k;
+  }
+  return met;
+}
+
 }  // namespace gs
 
 #if defined(__clang__)

@@ -29,6 +29,14 @@ void rays_crossed_avx2(const RayBoxLanes& lanes, const float* boxes, uint32_t st
 void rays_crossed_avx512(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
                          uint32_t first, uint32_t count, uint64_t rays, uint64_t* crossing);
 
+// BoxesCrossed with 4 (SSE), 8 and 16 boxes in lanes.
+uint64_t boxes_crossed_sse(const RayBoxes& ray, const float* boxes, uint32_t stride, uint32_t first,
+                           uint32_t count, __m128 t0, __m128 t1);
+uint64_t boxes_crossed_avx2(const RayBoxes& ray, const float* boxes, uint32_t stride,
+                            uint32_t first, uint32_t count, __m128 t0, __m128 t1);
+uint64_t boxes_crossed_avx512(const RayBoxes& ray, const float* boxes, uint32_t stride,
+                              uint32_t first, uint32_t count, __m128 t0, __m128 t1);
+
 // Lanes whose edge functions rounded to zero: the scalar kernel redoes them in wider
 // arithmetic (the paper's rule), so they are handed to it. Returns the lanes of `zero` it
 // found hit, filling `out`.

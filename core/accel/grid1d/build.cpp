@@ -221,23 +221,42 @@ std::unique_ptr<ThreadContext> Grid1D::make_context() const {
 // the voxel through its id list) while another thread is still cutting it or when the
 // memory budget left a leaf without its leaf block.
 uint32_t Grid1D::examine(uint32_t id, Context& context) const {
-  Voxel& voxel = voxels_[id];
   const Region& region = regions_[id];
-  std::atomic<uint32_t>& slot = region.ref == kNone ? root_ref_ : refs_[region.ref];
+  const std::atomic<uint32_t>& slot = region.ref == kNone ? root_ref_ : refs_[region.ref];
   uint8_t expected = kUnexamined;
-  if (!voxel.status.compare_exchange_strong(expected, kBuilding, std::memory_order_acquire))
+  if (!voxels_[id].status.compare_exchange_strong(expected, kBuilding, std::memory_order_acquire))
     return expected == kBuilding ? child_ref::make(child_ref::kUnbuilt, id)
                                  : slot.load(std::memory_order_acquire);
   const auto start = Clock::now();
+  const uint32_t ref = settle(id, context);
+  context.counters.lazy_build_seconds += seconds_since(start);
+  return ref;
+}
+
+// Cuts voxel `id`, whose status this thread set to kBuilding, or makes it a leaf, and
+// publishes it. A cut whose triangles all fall into one cell (the paper's teapot in a
+// stadium: a chain of such cuts isolates a small cluster in large extents) settles that
+// cell at once, down the chain, and publishes the chain's bottom as the voxel's reference:
+// the walk goes from the chain's top straight into the cluster, never into the chain's
+// voxels, whose other cells are empty (docs/design.md §1.3). Nobody else can reach the
+// chain's cells meanwhile: their node is published nowhere.
+uint32_t Grid1D::settle(uint32_t id, Context& context) const {
+  const Region& region = regions_[id];
+  std::atomic<uint32_t>& slot = region.ref == kNone ? root_ref_ : refs_[region.ref];
   const Cut cut = plan_cut(id);
   uint32_t ref = cut.granularity >= 2 ? commit_cut(id, cut) : kNone;
   const bool split = ref != kNone;
-  if (!split) ref = make_leaf(id);
+  if (!split) {
+    ref = make_leaf(id);
+  } else if (const uint16_t sole = sole_cell(cut); sole != Node::kManyCells) {
+    const uint32_t cell = voxels_[id].first_child + sole;
+    voxels_[cell].status.store(kBuilding, std::memory_order_relaxed);
+    ref = settle(cell, context);
+  }
   slot.store(ref, std::memory_order_release);
-  voxel.status.store(split ? kSplit : kLeaf, std::memory_order_release);
+  voxels_[id].status.store(split ? kSplit : kLeaf, std::memory_order_release);
   ++context.counters.voxels_built;
   add_progress(progress_.voxels_built);
-  context.counters.lazy_build_seconds += seconds_since(start);
   return ref;
 }
 
@@ -450,7 +469,7 @@ uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
   const auto g = uint32_t(cut.granularity);
   const uint64_t bytes = g * (sizeof(Voxel) + sizeof(Region)) + sizeof(Node) +
                          sizeof(uint32_t) * (1 + g + cut.tris.size() + cut.samples.size()) +
-                         sizeof(float) * box_floats(g);
+                         sizeof(float) * grouped_box_floats(g);
   if (voxels_.size() + g >= size_t(child_ref::kMaxPayload) || !reserve_bytes(bytes)) {
     ++over_budget_;
     return kNone;
@@ -460,7 +479,7 @@ uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
   const size_t first_voxel = voxels_.append(g);
   const size_t node = nodes_.append(1);
   const size_t refs = refs_.append(g);
-  const size_t boxes = child_boxes_.append(box_floats(g));
+  const size_t boxes = child_boxes_.append(grouped_box_floats(g));
   const size_t tri_base = tri_indices_.append(cut.tris.size());
   const size_t sample_base = sample_indices_.append(cut.samples.size());
   if (first_voxel == SIZE_MAX || node == SIZE_MAX || node >= child_ref::kMaxPayload ||
@@ -478,7 +497,7 @@ uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
   Node& record = nodes_[node];
   record.first_cell = int64_t(region.cell[axis] * g);
   record.state = state;
-  std::copy(region.above, region.above + 3, record.above);
+  for (int a = 0; a < 3; ++a) record.above[a] = walk_above(region.above[a], a);
   record.children = uint32_t(refs);
   record.boxes = uint32_t(boxes);
   record.granularity = uint16_t(g);
@@ -502,6 +521,15 @@ uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
   add_progress(progress_.triangles_sorted, voxels_[id].tri_count);
   raise_to(deepest_, region.depth + 1);
   return child_ref::make(child_ref::kNode, uint32_t(node));
+}
+
+// The node a walk climbs to on axis a from below `node` (a voxel's nearest ancestor cut
+// along a, or kNone): `node` itself, or, when it is a chain voxel that holds all its
+// triangles in one cell (never walked in, settle), the node above it on a, and so on up.
+// Stepping there instead leaves the chain's empty cells without a look (docs/design.md
+// §1.3).
+uint32_t Grid1D::walk_above(uint32_t node, int a) const {
+  return node != kNone && nodes_[node].sole_cell != Node::kManyCells ? nodes_[node].above[a] : node;
 }
 
 // The one cell of a cut that holds triangles (Node::sole_cell), or Node::kManyCells.
@@ -560,7 +588,7 @@ void Grid1D::link_children(uint32_t id, const Cut& cut, uint32_t first_child, ui
       content_box(
           0, [&](uint32_t) { return input_.box(0); }, lo, hi, 0.0, box);
     }
-    for (int k = 0; k < 6; ++k) boxes[k * stride + i] = box[k];
+    for (int k = 0; k < 6; ++k) boxes[6 * (i & ~3u) + 4 * k + (i & 3u)] = box[k];
   }
 }
 

@@ -165,6 +165,7 @@ class Grid1D final : public Accelerator {
   std::vector<SampleRay> scout_sample(std::span<const Ray> sample_rays, const SpawnRays& spawn);
   void report_sampling(uint64_t traced, const Grid1D& scout) const;
   uint32_t examine(uint32_t voxel, Context& context) const;
+  uint32_t settle(uint32_t voxel, Context& context) const;
   uint32_t make_leaf(uint32_t voxel) const;
   Cut plan_cut(uint32_t voxel) const;
   VoxelFigures figures_of(uint32_t voxel, const double lo[3], const double hi[3]) const;
@@ -174,6 +175,7 @@ class Grid1D final : public Accelerator {
                        Cut& cut) const;
   uint32_t commit_cut(uint32_t voxel, const Cut& cut) const;
   static uint16_t sole_cell(const Cut& cut);
+  uint32_t walk_above(uint32_t node, int axis) const;
   void link_children(uint32_t voxel, const Cut& cut, uint32_t first_child, uint32_t node) const;
   double estimated_rays(uint32_t voxel) const;
   uint32_t state_for(uint32_t axis, uint64_t granularity) const;

@@ -169,7 +169,6 @@ void Grid1D::visit_node(uint32_t id, uint64_t rays, const double* t_in, const do
   lane_ops_.cover(lines, {b, info.origin, info.scale, info.width, double(first), double(g - 1)},
                   rays, t_in, t_out, cover);
   const float* boxes = &child_boxes_[node.boxes];
-  const uint32_t stride = box_stride(node.granularity);
   const RayBoxLanes& box_lanes = walk.context.ray_box_lanes;
   alignas(64) double child_in[kPacketLanes], child_out[kPacketLanes];
   TraceCounters& counters = walk.context.counters;
@@ -202,9 +201,9 @@ void Grid1D::visit_node(uint32_t id, uint64_t rays, const double* t_in, const do
     }
     const uint64_t candidates = covering & ~walk.done;
     if (candidates == 0) continue;
-    uint64_t meeting = candidates;  // the sole cell: met one level up (Node::sole_cell)
-    if (cell != node.sole_cell)
-      kernel_.rays_crossed(box_lanes, boxes, stride, uint32_t(cell), 1, candidates, &meeting);
+    uint64_t meeting = 0;
+    kernel_.rays_crossed(box_lanes, box_group(boxes, uint32_t(cell)), 4, box_lane(uint32_t(cell)),
+                         1, candidates, &meeting);
     if (meeting == 0) continue;
     const uint64_t entering = lane_ops_.enter(lines, b, cover, double(first + cell), meeting, t_in,
                                               t_out, child_in, child_out);

@@ -32,8 +32,8 @@ struct alignas(64) Grid1D::Node {
   uint32_t state;      // traversal state (axis, absolute granularity)
   uint32_t above[3];   // nearest ancestor node cut along each axis, or kNone (the box)
   uint32_t children;   // refs_ index of cell 0's reference
-  // child_boxes_ index of the cells' content boxes (structure of arrays, box_stride(g) per
-  // array; core/geometry/box_test.h): where each cell's triangles can be hit, so that the
+  // child_boxes_ index of the cells' content boxes (in groups of four cells,
+  // core/geometry/box_test.h's grouped layout): where each cell's triangles can be hit, so that the
   // walk tests all of them at once and steps only into cells whose contents the ray meets.
   uint32_t boxes;
   uint16_t granularity;

@@ -170,8 +170,7 @@ bool Grid1D::enter(Cursor& cursor, RayWalk& walk, Context& context, Recorder& re
     }
     const uint32_t id = child_ref::payload(cursor.ref);
     const int64_t local = descend(id, cursor.t, cursor.entered, walk, context, recorder);
-    const int64_t cell =
-        local == nodes_[id].sole_cell ? local : seek(id, local, true, cursor, walk, context);
+    const int64_t cell = seek(id, local, true, cursor, walk, context);
     if (cell < 0) {
       recorder.discard_descents();
       return false;
@@ -254,36 +253,38 @@ inline void Grid1D::activate(int a, uint32_t node, uint32_t state, RayWalk& walk
   const double other = std::min(walk.t_next[kNextAxis[b]], walk.t_next[kNextAxis[b + 1]]);
   const double limit = std::min(other, walk.stop);
   const float* boxes = &child_boxes_[node.boxes];
-  const uint32_t stride = box_stride(node.granularity);
   // Where the ray enters cell `cell` (a wall of the state's grid).
   const auto entry = [&](int64_t cell) {
     return values.exit_distance(node.first_cell + cell - d, d);
   };
+  // Groups of four cells (box_group), from the one holding `from`, whose cells before
+  // `from` are masked off; the last group's cells past g have empty boxes.
+  const int64_t from_group = from & ~int64_t{3};
   int64_t cell = -1;
   if (d > 0) {
-    for (int64_t first = from; first < g; first += 4) {
+    uint32_t ahead = ~0u << (from & 3);
+    for (int64_t group = from_group; group < g; group += 4, ahead = ~0u) {
       const uint32_t met =
-          walk.boxes->crossed4(boxes, stride, uint32_t(first), walk.t_lo, walk.t_hi) &
-          (g - first >= 4 ? 15u : (1u << (g - first)) - 1u);
+          walk.boxes->crossed_group(boxes + 6 * group, walk.t_lo, walk.t_hi) & ahead;
       if (met != 0) {
-        cell = first + std::countr_zero(met);
+        cell = group + std::countr_zero(met);
         break;
       }
-      if (first + 4 < g && entry(first + 4) > limit) break;
+      if (group + 4 < g && entry(group + 4) > limit) break;
     }
   } else if (d < 0) {
-    for (int64_t last = from; last >= 0; last -= 4) {
-      const int64_t first = std::max<int64_t>(0, last - 3);
+    uint32_t ahead = (2u << (from & 3)) - 1u;
+    for (int64_t group = from_group; group >= 0; group -= 4, ahead = 15u) {
       const uint32_t met =
-          walk.boxes->crossed4(boxes, stride, uint32_t(first), walk.t_lo, walk.t_hi) &
-          ((2u << (last - first)) - 1u);
+          walk.boxes->crossed_group(boxes + 6 * group, walk.t_lo, walk.t_hi) & ahead;
       if (met != 0) {
-        cell = first + 31 - std::countl_zero(met);
+        cell = group + std::bit_width(met) - 1;
         break;
       }
-      if (first > 0 && entry(first - 1) > limit) break;
+      if (group > 0 && entry(group - 1) > limit) break;
     }
-  } else if (walk.boxes->crossed4(boxes, stride, uint32_t(from), walk.t_lo, walk.t_hi) & 1u) {
+  } else if (walk.boxes->crossed_group(boxes + 6 * from_group, walk.t_lo, walk.t_hi) >> (from & 3) &
+             1u) {
     cell = from;
   }
   if (cell >= 0) {
