@@ -237,7 +237,7 @@ TEST(Grid1DWalk, RecordsTheCellsTheWalkLooksAt) {
 // the cluster, one at a time and in packets, lazily and eagerly built, get brute force's
 // answers; the chain is there (voxels cut with exactly one cell holding triangles, counted
 // from the voxel records), and no recorded walk goes down into one of its voxels, although
-// the walks that hit go down below them.
+// the walks that hit go down below them; every cell a walk records is a leaf.
 TEST(Grid1DWalk, RaysGoFromTheStadiumsChainStraightIntoTheCluster) {
   const Scene scene = test::stadium_scene(2500);
   std::vector<Ray> rays;
@@ -280,16 +280,51 @@ TEST(Grid1DWalk, RaysGoFromTheStadiumsChainStraightIntoTheCluster) {
     const std::optional<Walk> walk = grid.record_walk(rays[i], *context);
     ASSERT_TRUE(walk.has_value());
     EXPECT_EQ(walk->hit.id, expected[i].id) << "ray " << i;
-    for (const WalkCell& cell : walk->cells)
+    for (const WalkCell& cell : walk->cells) {
+      EXPECT_NE(grid.voxel(cell.voxel).status.load(), Grid1D::kSplit)
+          << "ray " << i << " searched subdivided voxel " << cell.voxel;
       for (const WalkDescent& descent : cell.descents) {
         ++descents;
         EXPECT_FALSE(chain[descent.voxel])
             << "ray " << i << " went down into chain voxel " << descent.voxel;
         below_chain += descent.depth > chain_depth;
       }
+    }
   }
   EXPECT_GT(descents, 0u);
   EXPECT_GT(below_chain, 0u);
+}
+
+// A chain of one-cell cuts that the depth cap ends in a leaf: the chain's top refers to that
+// leaf, rays get brute force's answers, and a recorded walk names the leaf it searched (the
+// chain's last cell), not the chain's top voxel.
+TEST(Grid1DWalk, AChainEndingInALeafIsSearchedAsThatLeaf) {
+  const Scene scene = test::stadium_scene(2500);
+  std::vector<Ray> rays;
+  for (int i = 0; i < 400; ++i) {
+    Ray ray;
+    ray.origin = {4.0f, 3.0f, 6.0f};
+    ray.dir =
+        glm::vec3(0.02f * float(i % 20) - 0.2f, 0.02f * float(i / 20) - 0.2f, 0.0f) - ray.origin;
+    rays.push_back(ray);
+  }
+  const std::vector<Hit> expected = brute_answers_hitting(scene, rays, rays.size() / 2);
+  AccelParams params;
+  params.max_depth = 6;
+  Grid1D grid{params};
+  grid.build(scene);
+  EXPECT_EQ(test::count_mismatches("depth cap 6", test::trace_all(grid, rays, 1), expected), 0u);
+  const auto context = grid.make_context();
+  uint32_t searched = 0;
+  for (size_t i = 0; i < rays.size(); i += 5) {
+    const std::optional<Walk> walk = grid.record_walk(rays[i], *context);
+    ASSERT_TRUE(walk.has_value());
+    for (const WalkCell& cell : walk->cells) {
+      ASSERT_NE(grid.voxel(cell.voxel).status.load(), Grid1D::kSplit) << "ray " << i;
+      searched += grid.voxel(cell.voxel).tri_count > 0;
+    }
+  }
+  EXPECT_GT(searched, 0u);
 }
 
 // A packet whose rays all go one way walks together: a 64x64 view straight down onto the

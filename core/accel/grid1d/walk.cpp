@@ -142,7 +142,17 @@ Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
 // The voxel of the cell the cursor stands in (for the recorder).
 uint32_t Grid1D::cursor_voxel(const Cursor& cursor) const {
   if (child_ref::kind(cursor.ref) == child_ref::kUnbuilt) return child_ref::payload(cursor.ref);
-  return cursor.node == kNone ? 0 : voxels_[node_voxels_[cursor.node]].first_child + cursor.local;
+  uint32_t id =
+      cursor.node == kNone ? 0 : voxels_[node_voxels_[cursor.node]].first_child + cursor.local;
+  // A chain's top refers to its bottom (settle): a leaf there is the chain's last one-cell cut's
+  // cell holding the triangles.
+  while (voxels_[id].status.load(std::memory_order_acquire) == kSplit) {
+    const Voxel& chain = voxels_[id];
+    uint32_t cell = 0;
+    while (voxels_[chain.first_child + cell].tri_count == 0) ++cell;
+    id = chain.first_child + cell;
+  }
+  return id;
 }
 
 // From the cell the cursor stands in at cursor.t, down through nodes (§5.2) to a cell worth
