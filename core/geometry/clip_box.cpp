@@ -49,6 +49,7 @@ bool start_walk(const ClipBox& box, const Ray& ray, WalkLine& line) {
   // The moved line's own interval in the box; the kernel accepts nothing before tmin.
   line.t0 = double(ray.tmin) - line.shift - line.slack, line.t1 = kInf;
   for (int a = 0; a < 3; ++a) {
+    line.t_exit[a] = kInf;
     if (line.dir[a] == 0.0) {
       if (line.origin[a] < box.lo[a] || line.origin[a] > box.hi[a]) return false;
       continue;
@@ -56,6 +57,7 @@ bool start_walk(const ClipBox& box, const Ray& ray, WalkLine& line) {
     double ta = (box.lo[a] - line.origin[a]) * line.inv_dir[a];
     double tb = (box.hi[a] - line.origin[a]) * line.inv_dir[a];
     if (ta > tb) std::swap(ta, tb);
+    line.t_exit[a] = tb;
     line.t0 = std::max(line.t0, ta), line.t1 = std::min(line.t1, tb);
   }
   return line.t0 <= line.t1;

@@ -91,10 +91,11 @@ struct WalkLine {
   // tests made on the true line in float (content and node boxes) are not made at all.
   static constexpr double kNearRange = 1e4;
   double origin[3], dir[3], inv_dir[3];
-  double shift;   // t_enter of ClipBox::clip: true t = t' + shift
-  double t0, t1;  // the interval of t' the walk covers: inside the clip box, from tmin on
-  double slack;   // walk_slack
-  bool far;       // the true origin lies beyond kNearRange times the scene's magnitude
+  double shift;      // t_enter of ClipBox::clip: true t = t' + shift
+  double t0, t1;     // the interval of t' the walk covers: inside the clip box, from tmin on
+  double t_exit[3];  // where the line leaves the clip box's slab on each axis (inf: parallel)
+  double slack;      // walk_slack
+  bool far;          // the true origin lies beyond kNearRange times the scene's magnitude
   // The stop distance of stop_distance(tmax, slack), in t'.
   double stop(float tmax) const;
 };

@@ -115,7 +115,8 @@ class alignas(64) Grid1D::Context final : public ThreadContext {
   };
   static_assert(sizeof(StateValues) == 48);
 
-  explicit Context(const Grid1D& grid) : grid_(grid) {}
+  // The scene box's states (0, 1, 2) are there from the start: every walk sets them.
+  explicit Context(const Grid1D& grid) : grid_(grid) { state(2); }
   ~Context() override {
     for (uint32_t id = 0; id < state_count; ++id)
       if (states[id].rays)
@@ -151,13 +152,12 @@ class alignas(64) Grid1D::Context final : public ThreadContext {
 // traversal state gives the ray's current slab on that axis (§5.3: the current node's own
 // axis and the "voxels above" on the two others).
 struct Grid1D::RayWalk {
-  double origin[3], dir[3], inv_dir[3];
+  WalkLine line;       // the line walked (start_walk)
   int step[3];         // +1, -1, or 0 where the direction component is zero
   uint32_t active[3];  // node, or kNone: the scene box
   uint32_t active_state[3];
   double t_next[3];  // the active states' t_next, kept at hand for choosing the step axis
   uint64_t ray_id;
-  const WalkLine* line;  // the line walked: origin, dir, inv_dir above are its
   const PreparedRay<KernelReal>* prepared;
   const RayBoxes* boxes;
   double stop;        // stop_distance of the nearest hit so far (or of tmax)

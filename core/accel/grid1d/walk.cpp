@@ -96,19 +96,13 @@ std::optional<Walk> Grid1D::record_walk(const Ray& ray, ThreadContext& context) 
 template <bool AnyHit, class Recorder>
 Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
   RayWalk walk;
-  WalkLine line;
-  if (!start_walk(input_.clip, ray, line)) return Hit{};
-  for (int a = 0; a < 3; ++a) {
-    walk.origin[a] = line.origin[a], walk.dir[a] = line.dir[a], walk.inv_dir[a] = line.inv_dir[a];
-    walk.step[a] = step_of(ray.dir[a]);
-  }
-  walk.line = &line;
+  const WalkLine& line = walk.line;
+  if (!start_walk(input_.clip, ray, walk.line)) return Hit{};
+  for (int a = 0; a < 3; ++a) walk.step[a] = step_of(ray.dir[a]);
   walk.ray_id = context.mailbox.next_ray();
   for (uint32_t a = 0; a < 3; ++a) {  // the box's states: the scene box on each axis
-    Context::StateValues& box = context.state(a);
-    box.stamp = walk.ray_id, box.index = 0;
-    const double exit_wall = walk.step[a] > 0 ? input_.clip.hi[a] : input_.clip.lo[a];
-    box.t_next = walk.step[a] == 0 ? kInf : (exit_wall - walk.origin[a]) * walk.inv_dir[a];
+    Context::StateValues& box = context.states[a];
+    box.stamp = walk.ray_id, box.index = 0, box.t_next = line.t_exit[a];
     walk.active[a] = kNone, walk.active_state[a] = a, walk.t_next[a] = box.t_next;
   }
   const PreparedRay<KernelReal> prepared(ray, line.shift, line.inv_dir);
@@ -340,15 +334,15 @@ template <class Recorder>
     if (!used_by_ray) {
       ++values.rays;
       values.stamp = walk.ray_id;
-      values.t_origin = (info.origin - walk.origin[b]) * walk.inv_dir[b];
-      values.t_width = info.width * walk.inv_dir[b];
+      values.t_origin = (info.origin - walk.line.origin[b]) * walk.line.inv_dir[b];
+      values.t_width = info.width * walk.line.inv_dir[b];
     }
     if (int(b) == entered_axis) {
       local = walk.step[b] > 0 ? 0 : g - 1;
     } else {
       // Clamped first, then truncated: truncation is floor for what is left, and much
       // cheaper than std::floor on baseline x86-64 (no SSE4.1 round instruction).
-      const double p = walk.origin[b] + t_cur * walk.dir[b];
+      const double p = walk.line.origin[b] + t_cur * walk.line.dir[b];
       const double cell = (p - info.origin) * info.scale - double(first);
       local = int64_t(std::clamp(cell, 0.0, double(g - 1)));
     }
