@@ -5,11 +5,12 @@
 
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <limits>
 
 #include "core/accel/brute.h"
 #include "core/accel/grid1d/cost_model.h"
-#include "core/geometry/kernel.h"
 #include "core/accel/grid1d/grid1d.h"
+#include "core/geometry/kernel.h"
 #include "tests/test_util.h"
 
 namespace gs {
@@ -55,6 +56,48 @@ TEST(Kernel, InvalidRaysMiss) {
     EXPECT_EQ(hit, Hit{}) << "case " << bad;
     EXPECT_TRUE(std::isinf(hit.t));
   }
+}
+
+// ray_is_valid tests bit patterns (exponent all ones, magnitude zero); the reference here is
+// the definition, with std::isfinite and ==: every field through special values, and every
+// direction made of zeros of both signs, denormals and ones.
+TEST(Kernel, RayValidityIsItsDefinition) {
+  const auto reference = [](const Ray& r) {
+    for (int a = 0; a < 3; ++a)
+      if (!std::isfinite(r.origin[a]) || !std::isfinite(r.dir[a])) return false;
+    if (r.dir.x == 0.0f && r.dir.y == 0.0f && r.dir.z == 0.0f) return false;
+    return r.tmin <= r.tmax;
+  };
+  const float denormal = std::numeric_limits<float>::denorm_min();
+  const float special[] = {0.0f,   -0.0f,    denormal,  -denormal, 1.0f,
+                           -3e38f, INFINITY, -INFINITY, NAN,       -NAN};
+  Ray good;
+  good.origin = {0.5f, -2.0f, 3.0f};
+  good.dir = {0.25f, 1.0f, -0.5f};
+  good.tmin = 0.0f, good.tmax = 10.0f;
+  int invalid = 0, cases = 0;
+  for (int field = 0; field < 8; ++field)
+    for (const float value : special) {
+      Ray ray = good;
+      (&ray.origin.x)[field] = value;  // Ray is eight floats: origin, tmin, dir, tmax
+      EXPECT_EQ(ray_is_valid(ray), reference(ray)) << "field " << field << " value " << value;
+      invalid += !reference(ray), ++cases;
+    }
+  // Non-finite in any of six components (4 values each); tmin above tmax = 10 (tmin = inf
+  // or a NaN: 3); tmax below tmin = 0 (tmax = -denormal, -3e38, -inf or a NaN: 5).
+  EXPECT_EQ(invalid, 6 * 4 + 3 + 5);
+  const float parts[] = {0.0f, -0.0f, denormal, 1.0f};
+  int zero_directions = 0;
+  for (const float x : parts)
+    for (const float y : parts)
+      for (const float z : parts) {
+        Ray ray = good;
+        ray.dir = {x, y, z};
+        EXPECT_EQ(ray_is_valid(ray), reference(ray)) << x << " " << y << " " << z;
+        zero_directions += !ray_is_valid(ray);
+      }
+  EXPECT_EQ(zero_directions, 8);  // each component +0 or -0
+  EXPECT_EQ(cases, 80);
 }
 
 // Same hit and t within 1e-4 relative wherever the hit is not grazing an edge (all

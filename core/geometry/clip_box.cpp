@@ -1,5 +1,7 @@
 #include "core/geometry/clip_box.h"
 
+#include <emmintrin.h>
+
 #include <algorithm>
 #include <cfloat>
 
@@ -66,12 +68,19 @@ bool start_walk(const ClipBox& box, const Ray& ray, WalkLine& line) {
 double WalkLine::stop(float tmax) const { return walk_stop(tmax, slack, shift); }
 
 bool ray_is_valid(const Ray& ray) {
-  // x - x is NaN exactly when x is infinite or NaN: one test for the six components.
-  const glm::vec3 o = ray.origin, d = ray.dir;
-  const float finite =
-      (o.x - o.x) + (o.y - o.y) + (o.z - o.z) + (d.x - d.x) + (d.y - d.y) + (d.z - d.z);
-  if (finite != 0.0f) return false;
-  if (d.x == 0.0f && d.y == 0.0f && d.z == 0.0f) return false;
+  // A float is infinite or NaN exactly when its exponent bits are all ones, and zero when
+  // all bits but the sign are clear: the six components tested at once, origin and
+  // direction each in the first three lanes of one SSE2 register (the fourth holds tmin
+  // or tmax, checked below).
+  const __m128i origin = _mm_loadu_si128(reinterpret_cast<const __m128i*>(&ray.origin.x));
+  const __m128i dir = _mm_loadu_si128(reinterpret_cast<const __m128i*>(&ray.dir.x));
+  const __m128i exponent = _mm_set1_epi32(0x7f800000), magnitude = _mm_set1_epi32(0x7fffffff);
+  const __m128i non_finite =
+      _mm_or_si128(_mm_cmpeq_epi32(_mm_and_si128(origin, exponent), exponent),
+                   _mm_cmpeq_epi32(_mm_and_si128(dir, exponent), exponent));
+  if (_mm_movemask_ps(_mm_castsi128_ps(non_finite)) & 7) return false;
+  const __m128i zero = _mm_cmpeq_epi32(_mm_and_si128(dir, magnitude), _mm_setzero_si128());
+  if ((_mm_movemask_ps(_mm_castsi128_ps(zero)) & 7) == 7) return false;
   return ray.tmin <= ray.tmax;  // false for a NaN bound too
 }
 
