@@ -52,7 +52,7 @@ tsan() {
 stage release release
 stage asan asan
 stage tsan tsan
-# 4. Every fuzz target (tests/fuzz) for 20 s on a copy of its seed corpus: any crash, leak,
+# 4. Every fuzz target (tests/fuzz) for 10 s on a copy of its seed corpus: any crash, leak,
 # hang or disagreement with brute force fails the run.
-stage fuzz ./scripts/fuzz.sh 20
+stage fuzz ./scripts/fuzz.sh 10
 echo "== all stages passed:$summary" >&2
