@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <glm/geometric.hpp>
 #include <limits>
 
@@ -78,8 +79,11 @@ TEST(Kernel, RayValidityIsItsDefinition) {
   int invalid = 0, cases = 0;
   for (int field = 0; field < 8; ++field)
     for (const float value : special) {
-      Ray ray = good;
-      (&ray.origin.x)[field] = value;  // Ray is eight floats: origin, tmin, dir, tmax
+      float fields[8];  // Ray is eight floats: origin, tmin, dir, tmax
+      std::memcpy(fields, &good, sizeof(Ray));
+      fields[field] = value;
+      Ray ray;
+      std::memcpy(&ray, fields, sizeof(Ray));
       EXPECT_EQ(ray_is_valid(ray), reference(ray)) << "field " << field << " value " << value;
       invalid += !reference(ray), ++cases;
     }
