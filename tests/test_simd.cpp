@@ -9,6 +9,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -320,9 +321,11 @@ TEST(BoxTest, RaysInLanesAgreeWithOneRayAtATime) {
     const uint32_t first = 1 + trial % 2, count = trial % 2 ? 1 : 3;
     for (const Isa isa : supported_isas()) {
       uint64_t got[4] = {};
-      kernel_for(isa).rays_crossed(lanes, soa, 4, first, count, mask, got);
+      const uint64_t crossed =
+          kernel_for(isa).rays_crossed(lanes, soa, 4, first, (uint64_t{1} << count) - 1, mask, got);
       for (uint32_t k = 0; k < count; ++k) {
         EXPECT_EQ(got[k] & ~mask, 0u);
+        EXPECT_EQ(bool(crossed >> k & 1), got[k] != 0);
         for (uint32_t r = 0; r < 64; ++r) {
           if (!(mask >> r & 1)) continue;
           const bool expected =
@@ -337,6 +340,109 @@ TEST(BoxTest, RaysInLanesAgreeWithOneRayAtATime) {
   }
   EXPECT_GT(crossings, agreed / 20);  // about one in ten rays crosses the box
   EXPECT_LT(crossings, agreed);
+}
+
+// The bounds of `rays` (bits) of `lanes`, from their lanes by plain loops: the least and the
+// greatest origin and 1 / dir per axis, the least t0 and the greatest t1.
+RayBoxBounds bounds_of(const RayBoxLanes& lanes, uint64_t rays) {
+  const float inf = std::numeric_limits<float>::infinity();
+  float lo[3] = {inf, inf, inf}, hi[3] = {-inf, -inf, -inf};
+  float inv_lo[3] = {inf, inf, inf}, inv_hi[3] = {-inf, -inf, -inf};
+  float t0 = inf, t1 = -inf;
+  for (uint32_t r = 0; r < 64; ++r) {
+    if (!(rays >> r & 1)) continue;
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], lanes.origin[a][r]), hi[a] = std::max(hi[a], lanes.origin[a][r]);
+      inv_lo[a] = std::min(inv_lo[a], lanes.inv_dir[a][r]);
+      inv_hi[a] = std::max(inv_hi[a], lanes.inv_dir[a][r]);
+    }
+    t0 = std::min(t0, lanes.t0[r]), t1 = std::max(t1, lanes.t1[r]);
+  }
+  RayBoxBounds bounds;
+  bounds.set(lo, hi, inv_lo, inv_hi, t0, t1);
+  return bounds;
+}
+
+// A packet's bounds rule out a box only when no ray of the packet crosses it, by the one-ray
+// test (RayBoxes), with every instruction set this CPU has: packets whose rays share an
+// origin (a camera's) or spread from many, with zero and -0 components and far rays among
+// them, against boxes around, behind and beside them. And they do rule boxes out: most of
+// those no ray of a one-origin packet crosses.
+TEST(BoxTest, PacketBoundsRuleOutOnlyBoxesNoRayCrosses) {
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f), positive(0.2f, 1.0f);
+  uint64_t boxes_seen = 0, crossed = 0, missed_by_all = 0, ruled_out = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const glm::vec3 signs(trial & 1 ? -1.0f : 1.0f, trial & 2 ? -1.0f : 1.0f,
+                          trial & 4 ? -1.0f : 1.0f);
+    const bool one_origin = trial % 3 != 0, specials = trial % 5 == 4;
+    const glm::vec3 eye(2.0f * unit(rng), 2.0f * unit(rng), 2.0f * unit(rng));
+    const glm::vec3 centre = signs * glm::vec3(positive(rng), positive(rng), positive(rng));
+    RayBoxLanes lanes;
+    std::vector<RayBoxes> one;
+    struct Segment {
+      __m128 t0, t1;
+    };
+    std::vector<Segment> segments;
+    std::vector<Ray> traced;
+    for (uint32_t r = 0; r < 64; ++r) {
+      Ray ray;
+      ray.origin = one_origin ? eye : eye + 0.3f * glm::vec3(unit(rng), unit(rng), unit(rng));
+      ray.dir = centre + 0.05f * glm::vec3(unit(rng), unit(rng), unit(rng));
+      for (int a = 0; a < 3; ++a) ray.dir[a] = signs[a] * std::abs(ray.dir[a]);
+      if (specials && r % 9 == 0) ray.dir[r % 3] = signs[r % 3] * 0.0f;  // +0 or -0
+      const bool cull = !(specials && r % 17 == 3);                      // a far ray
+      const __m128 t0 = _mm_set1_ps(r % 5 == 0 ? -0.5f : 0.0f);
+      const __m128 t1 = _mm_set1_ps(r % 7 == 0 ? 2.0f : 1e30f);
+      one.emplace_back(ray, cull);
+      traced.push_back(ray);
+      segments.push_back({t0, t1});
+      lanes.set(r, one.back(), t0, t1);
+    }
+    // All rays, some, or one (whose bounds are the ray itself).
+    const uint64_t rays = trial % 4 == 0   ? 0x00FF0F0F000000F1u
+                          : trial % 4 == 1 ? uint64_t{1} << (trial % 64)
+                                           : ~uint64_t{0};
+    lanes.bounds = bounds_of(lanes, rays);
+    alignas(16) float soa[box_floats(64)] = {};
+    for (uint32_t box = 0; box < 64; ++box) {
+      // Every other box has a corner on a ray of the mask, so that many rays just graze it.
+      uint32_t grazed = uint32_t(rng() % 64);
+      while (!(rays >> grazed & 1)) grazed = (grazed + 1) % 64;
+      const glm::vec3 corner = traced[grazed].origin + (0.5f + positive(rng)) * traced[grazed].dir;
+      for (int a = 0; a < 3; ++a) {
+        const float size = 0.05f + 0.5f * positive(rng);
+        float lo = eye[a] + 3.0f * unit(rng) - size, hi = lo + 2.0f * size;
+        if (box % 2) lo = box >> (a + 1) & 1 ? corner[a] : corner[a] - size, hi = lo + size;
+        soa[a * 64 + box] = lo, soa[(a + 3) * 64 + box] = hi;
+      }
+    }
+    const uint32_t first = uint32_t(trial % 3) * 4, count = 64 - first - uint32_t(trial % 7);
+    uint64_t four_at_a_time = 0;
+    for (uint32_t k = 0; k < count; k += 4)
+      four_at_a_time |= uint64_t(lanes.may_cross4(soa, 64, first + k)) << k;
+    if (count < 64) four_at_a_time &= (uint64_t{1} << count) - 1;
+    for (const Isa isa : supported_isas())
+      EXPECT_EQ(kernel_for(isa).bounds_crossed(lanes, soa, 64, first, count), four_at_a_time)
+          << isa_name(isa) << ", trial " << trial;
+    for (uint32_t k = 0; k < count; ++k) {
+      bool any = false;
+      for (uint32_t r = 0; r < 64; ++r)
+        any |= (rays >> r & 1) &&
+               (one[r].crossed4(soa, 64, (first + k) & ~3u, segments[r].t0, segments[r].t1) >>
+                    ((first + k) & 3) &
+                1);
+      const bool may = four_at_a_time >> k & 1;
+      if (any) {
+        EXPECT_TRUE(may) << "trial " << trial << " box " << first + k;
+      }
+      ++boxes_seen, crossed += any;
+      if (!any && one_origin && !specials) ++missed_by_all, ruled_out += !may;
+    }
+  }
+  EXPECT_GT(crossed, boxes_seen / 20);
+  EXPECT_GT(missed_by_all, boxes_seen / 4);
+  EXPECT_GT(ruled_out, missed_by_all * 3 / 4);
 }
 
 // Bits of a double and a float, for bit-for-bit comparisons (NaN included).
@@ -389,12 +495,13 @@ std::vector<Ray> start_rays(std::mt19937& random) {
 // The packet's start in lanes (PacketLaneOps::start and prepare), with every instruction
 // set this CPU has, sets each ray up exactly as the single-ray walk does: start_walk's line,
 // PreparedRay's figures, RayBoxes' float origin and 1 / dir, box_test_start, the stop
-// distance and box_test_end, bit for bit.
+// distance and box_test_end, bit for bit; and the packet's bounds (RayBoxBounds) are those
+// of its rays' lanes.
 TEST(PacketLanes, StartIsTheSingleRayStartBitForBit) {
   std::mt19937 random(11);
   const std::vector<Ray> rays = start_rays(random);
   const ClipBox box(Box{glm::vec3(-1.0f, -2.0f, -1.5f), glm::vec3(2.0f, 1.0f, 2.5f)});
-  size_t tried = 0, walks = 0, misses = 0, far = 0;
+  size_t tried = 0, walks = 0, misses = 0, far = 0, bounded_axes = 0;
   for (const Isa isa : supported_isas()) {
     const PacketLaneOps ops = packet_lane_ops(isa);
     for (size_t packet = 0; packet < rays.size(); packet += 64) {
@@ -450,8 +557,34 @@ TEST(PacketLanes, StartIsTheSingleRayStartBitForBit) {
         EXPECT_EQ(bits(box_lanes.t0[i]), bits(_mm_cvtss_f32(box_test_start(line))));
         EXPECT_EQ(bits(box_lanes.t1[i]), bits(_mm_cvtss_f32(box_test_end(line, stop))));
       }
+      // The packet's bounds over the started rays of the first one's kind, as prepare
+      // leaves them: those of its lanes.
+      if (started == 0) continue;
+      const int32_t kind = lines.kind[std::countr_zero(started)];
+      uint64_t group = 0;
+      for (uint32_t i = 0; i < count; ++i)
+        group |= uint64_t((started >> i & 1) && lines.kind[i] == kind) << i;
+      RayLanes kernel_lanes;
+      RayBoxLanes box_lanes;
+      const int axes[3] = {0, 1, 2};
+      ops.prepare(lines, group, axes, kernel_lanes, box_lanes);
+      const RayBoxBounds expected = bounds_of(box_lanes, group);
+      const RayBoxBounds& got = box_lanes.bounds;
+      const auto same = [](__m128 x, __m128 y) {
+        return bits(_mm_cvtss_f32(x)) == bits(_mm_cvtss_f32(y));
+      };
+      EXPECT_EQ(got.axes, expected.axes) << isa_name(isa) << " packet " << packet;
+      bounded_axes += std::popcount(got.axes);
+      EXPECT_TRUE(same(got.t0_lo, expected.t0_lo) && same(got.t1_hi, expected.t1_hi));
+      for (int a = 0; a < 3; ++a)
+        EXPECT_TRUE(same(got.near_origin[a], expected.near_origin[a]) &&
+                    same(got.far_origin[a], expected.far_origin[a]) &&
+                    same(got.inv_lo[a], expected.inv_lo[a]) &&
+                    same(got.inv_hi[a], expected.inv_hi[a]))
+            << isa_name(isa) << " packet " << packet << " axis " << a;
     }
   }
+  EXPECT_GT(bounded_axes, 0u);
   // Both outcomes, and far rays, are checked.
   EXPECT_GT(walks, tried / 4);
   EXPECT_GT(misses, tried / 10);

@@ -99,6 +99,63 @@ struct RayBoxes {
   }
 };
 
+// Interval bounds of a packet's box-test rays (RayBoxLanes; the interval arithmetic of
+// Boulos, Wald and Shirley's packet culling, 2006): per axis the least and the greatest
+// origin and 1 / dir, the least t0 and the greatest t1. A box test against the bounds
+// (may_cross4, Kernel::bounds_crossed) says "no ray crosses" only where each ray's own test
+// (slab_test4) would say it misses (docs/design.md §6.9): the least entry and the greatest
+// exit any ray can compute bound every ray's, because float rounding is monotone.
+// An axis some ray does not cross with a finite 1 / dir of the packet's sign (a zero
+// component, or a far ray's zero) is not used. Every figure in all four lanes.
+struct RayBoxBounds {
+  // (face - origin) * inv_dir grows with the face term and, for 1 / dir > 0, falls with the
+  // origin: the least near distance takes the greatest origin, the greatest far distance the
+  // least (and the other way round for 1 / dir < 0).
+  __m128 near_origin[3] = {}, far_origin[3] = {}, inv_lo[3] = {}, inv_hi[3] = {};
+  __m128 t0_lo = {}, t1_hi = {};
+  uint32_t axes = 0;  // bit a: axis a bounds the rays
+
+  void set(const float origin_lo[3], const float origin_hi[3], const float inv_dir_lo[3],
+           const float inv_dir_hi[3], float t0, float t1) {
+    axes = 0;
+    for (int a = 0; a < 3; ++a) {
+      const bool up = inv_dir_lo[a] > 0.0f && inv_dir_hi[a] < INFINITY;
+      const bool down = inv_dir_hi[a] < 0.0f && inv_dir_lo[a] > -INFINITY;
+      axes |= uint32_t(up || down) << a;
+      near_origin[a] = _mm_set1_ps(up ? origin_hi[a] : origin_lo[a]);
+      far_origin[a] = _mm_set1_ps(up ? origin_lo[a] : origin_hi[a]);
+      inv_lo[a] = _mm_set1_ps(inv_dir_lo[a]), inv_hi[a] = _mm_set1_ps(inv_dir_hi[a]);
+    }
+    t0_lo = _mm_set1_ps(t0), t1_hi = _mm_set1_ps(t1);
+  }
+  // Bits 0..3 for boxes first .. first + 3: clear when no ray of the bounds crosses the box.
+  uint32_t may_cross4(const float* boxes, uint32_t stride, uint32_t first,
+                      const uint32_t near_array[3], const uint32_t far_array[3]) const {
+    const __m128 outward_size = _mm_set1_ps(3 * kSlabGamma), one = _mm_set1_ps(1.0f),
+                 sign = _mm_set1_ps(-0.0f);
+    __m128 entry = t0_lo, exit = t1_hi;
+    for (int a = 0; a < 3; ++a) {
+      if (!(axes >> a & 1)) continue;
+      // A ray's near distance is at least the near gap times one of the two 1 / dir bounds,
+      // its far distance at most the far gap times one of them (the products are linear
+      // in 1 / dir): the least and the greatest of the two products bound them.
+      const __m128 near_gap =
+          _mm_sub_ps(_mm_loadu_ps(boxes + near_array[a] * stride + first), near_origin[a]);
+      const __m128 far_gap =
+          _mm_sub_ps(_mm_loadu_ps(boxes + far_array[a] * stride + first), far_origin[a]);
+      const __m128 least_near =
+          _mm_min_ps(_mm_mul_ps(near_gap, inv_lo[a]), _mm_mul_ps(near_gap, inv_hi[a]));
+      const __m128 exact_far =
+          _mm_max_ps(_mm_mul_ps(far_gap, inv_lo[a]), _mm_mul_ps(far_gap, inv_hi[a]));
+      // slab_test4's widening, which grows with the distance: applied to the greatest.
+      const __m128 outward = _mm_or_ps(_mm_and_ps(exact_far, sign), outward_size);
+      entry = _mm_max_ps(least_near, entry);
+      exit = _mm_min_ps(_mm_mul_ps(exact_far, _mm_add_ps(one, outward)), exit);
+    }
+    return uint32_t(_mm_movemask_ps(_mm_cmpngt_ps(entry, exit)));  // NaN: may cross
+  }
+};
+
 // Up to 64 rays with the same direction signs (so the same near and far faces) against one
 // box at a time, rays in lanes: RayBoxes' test with the roles swapped, for a packet's rays
 // in a leaf (docs/design.md §6.9). crossed() takes four rays at a time; the kernels of wider
@@ -109,6 +166,12 @@ struct RayBoxLanes {
   alignas(64) float origin[3][kPadded] = {}, inv_dir[3][kPadded] = {};
   alignas(64) float t0[kPadded] = {}, t1[kPadded] = {};
   uint32_t near_array[3] = {0, 1, 2}, far_array[3] = {3, 4, 5};
+  RayBoxBounds bounds;  // of the rays the packet walk set (the packet's prepare)
+
+  // Bits 0..3: the boxes first .. first + 3 one of the bounded rays may cross.
+  uint32_t may_cross4(const float* boxes, uint32_t stride, uint32_t first) const {
+    return bounds.may_cross4(boxes, stride, first, near_array, far_array);
+  }
 
   // Sets ray `lane` to `ray` searching [t_lo, t_hi] (the same lanes of each).
   void set(uint32_t lane, const RayBoxes& ray, __m128 t_lo, __m128 t_hi) {

@@ -141,21 +141,50 @@ void force_kernel_isa(Isa isa) {
   isa_chosen = true;
 }
 
-void rays_crossed_sse(const RayBoxLanes& lanes, const float* boxes, uint32_t stride, uint32_t first,
-                      uint32_t count, uint64_t rays, uint64_t* crossing) {
-  for (uint32_t k = 0; k < count; ++k) crossing[k] = lanes.crossed(boxes, stride, first + k, rays);
+uint64_t rays_crossed_sse(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
+                          uint32_t first, uint64_t which, uint64_t rays, uint64_t* crossing) {
+  uint64_t crossed = 0;
+  for (; which != 0; which &= which - 1) {
+    const auto k = uint32_t(std::countr_zero(which));
+    crossing[k] = lanes.crossed(boxes, stride, first + k, rays);
+    crossed |= uint64_t(crossing[k] != 0) << k;
+  }
+  return crossed;
 }
 
 Kernel kernel_for(Isa isa) {
   switch (isa) {
     case Isa::avx2:
-      return {4, test_lanes_avx2, test_rays_avx2, rays_crossed_avx2, boxes_crossed_avx2};
+      return {4,
+              test_lanes_avx2,
+              test_rays_avx2,
+              rays_crossed_avx2,
+              boxes_crossed_avx2,
+              bounds_crossed_avx2};
     case Isa::avx512:
-      return {8, test_lanes_avx512, test_rays_avx512, rays_crossed_avx512, boxes_crossed_avx512};
+      return {8,
+              test_lanes_avx512,
+              test_rays_avx512,
+              rays_crossed_avx512,
+              boxes_crossed_avx512,
+              bounds_crossed_avx512};
     case Isa::scalar:
       break;
   }
-  return {1, test_lanes_scalar, test_rays_scalar, rays_crossed_sse, boxes_crossed_sse};
+  return {1,
+          test_lanes_scalar,
+          test_rays_scalar,
+          rays_crossed_sse,
+          boxes_crossed_sse,
+          bounds_crossed_sse};
+}
+
+uint64_t bounds_crossed_sse(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
+                            uint32_t first, uint32_t count) {
+  uint64_t met = 0;
+  for (uint32_t k = 0; k < count; k += 4)
+    met |= uint64_t(lanes.may_cross4(boxes, stride, first + k)) << k;
+  return count == 64 ? met : met & ((uint64_t{1} << count) - 1);
 }
 
 uint64_t boxes_crossed_sse(const RayBoxes& ray, const float* boxes, uint32_t stride, uint32_t first,

@@ -141,12 +141,13 @@ struct RayHits {
 using RayTest = uint64_t (*)(const LeafView& leaf, uint32_t tri, const RayLanes& rays,
                              uint64_t lanes, RayHits& out);
 
-// For each of `count` boxes of `boxes` from box `first` on (box_test.h's layout), the rays
-// of `rays` (bits) whose lanes of `lanes` cross it: crossing[k] for box first + k.
-// RayBoxLanes::crossed, 4, 8 or 16 rays at a time by instruction set; each group of rays is
-// loaded once for all the boxes (a leaf's triangles are tested together).
-using RaysCrossed = void (*)(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
-                             uint32_t first, uint32_t count, uint64_t rays, uint64_t* crossing);
+// For each box first + k of `boxes` (box_test.h's layout) with bit k of `which` set, the
+// rays of `rays` (bits) whose lanes of `lanes` cross it: crossing[k] (the other entries are
+// not written). Returns the boxes (bits k) some ray crosses. RayBoxLanes::crossed, 4, 8 or 16
+// rays at a time by instruction set; each group of rays is loaded once for all the boxes (a
+// leaf's triangles are tested together).
+using RaysCrossed = uint64_t (*)(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
+                                 uint32_t first, uint64_t which, uint64_t rays, uint64_t* crossing);
 
 // Of `count` (1..64) boxes of `boxes` from box `first` on (box_test.h's layout, stride
 // `stride`), those that one ray crosses within [t0, t1]: bit k for box first + k, none past
@@ -156,12 +157,21 @@ using RaysCrossed = void (*)(const RayBoxLanes& lanes, const float* boxes, uint3
 using BoxesCrossed = uint64_t (*)(const RayBoxes& ray, const float* boxes, uint32_t stride,
                                   uint32_t first, uint32_t count, __m128 t0, __m128 t1);
 
+// Of `count` (1..64) boxes of `boxes` from box `first` on (box_test.h's layout, stride
+// `stride`), those that one of the rays of `lanes`' bounds may cross: bit k for box first
+// + k, none past `count`. RayBoxBounds::may_cross4's test 4, 8 or 16 boxes at a time by
+// instruction set, each lane the same operations (a packet's leaf rules out the triangles no
+// ray reaches before testing any ray).
+using BoundsCrossed = uint64_t (*)(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
+                                   uint32_t first, uint32_t count);
+
 struct Kernel {
   uint32_t lanes = 1;
   LaneTest test = nullptr;
   RayTest test_rays = nullptr;
   RaysCrossed rays_crossed = nullptr;
   BoxesCrossed boxes_crossed = nullptr;
+  BoundsCrossed bounds_crossed = nullptr;
 };
 Kernel kernel_for(Isa isa);
 

@@ -130,12 +130,13 @@ uint64_t test_rays_avx2(const LeafView& leaf, uint32_t tri, const RayLanes& rays
   return hits;
 }
 
-void rays_crossed_avx2(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
-                       uint32_t first, uint32_t count, uint64_t rays, uint64_t* crossing) {
+uint64_t rays_crossed_avx2(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
+                           uint32_t first, uint64_t which, uint64_t rays, uint64_t* crossing) {
   // slab_test4's operations, eight rays at a time.
   const __m256 outward_size = _mm256_set1_ps(3 * kSlabGamma), one = _mm256_set1_ps(1.0f),
                sign = _mm256_set1_ps(-0.0f);
-  for (uint32_t k = 0; k < count; ++k) crossing[k] = 0;
+  for (uint64_t boxes_left = which; boxes_left != 0; boxes_left &= boxes_left - 1)
+    crossing[std::countr_zero(boxes_left)] = 0;
   for (uint64_t left = rays; left != 0;) {
     const uint32_t group = uint32_t(std::countr_zero(left)) & ~7u;
     const __m256 t0 = _mm256_load_ps(lanes.t0 + group), t1 = _mm256_load_ps(lanes.t1 + group);
@@ -143,7 +144,8 @@ void rays_crossed_avx2(const RayBoxLanes& lanes, const float* boxes, uint32_t st
     for (int a = 0; a < 3; ++a)
       origin[a] = _mm256_load_ps(lanes.origin[a] + group),
       inv_dir[a] = _mm256_load_ps(lanes.inv_dir[a] + group);
-    for (uint32_t k = 0; k < count; ++k) {
+    for (uint64_t boxes_left = which; boxes_left != 0; boxes_left &= boxes_left - 1) {
+      const auto k = uint32_t(std::countr_zero(boxes_left));
       __m256 entry = t0, exit = t1;
       for (int a = 0; a < 3; ++a) {
         const __m256 near_face = _mm256_set1_ps(boxes[lanes.near_array[a] * stride + first + k]);
@@ -160,7 +162,13 @@ void rays_crossed_avx2(const RayBoxLanes& lanes, const float* boxes, uint32_t st
     }
     left &= ~(uint64_t{255} << group);
   }
-  for (uint32_t k = 0; k < count; ++k) crossing[k] &= rays;
+  uint64_t crossed = 0;
+  for (; which != 0; which &= which - 1) {
+    const auto k = uint32_t(std::countr_zero(which));
+    crossing[k] &= rays;
+    crossed |= uint64_t(crossing[k] != 0) << k;
+  }
+  return crossed;
 }
 
 uint64_t boxes_crossed_avx2(const RayBoxes& ray, const float* boxes, uint32_t stride,
@@ -192,6 +200,42 @@ uint64_t boxes_crossed_avx2(const RayBoxes& ray, const float* boxes, uint32_t st
       exit = _mm256_min_ps(t_far, exit);
     }
     met |= uint64_t(uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(entry, exit, _CMP_LE_OQ)))) << k;
+  }
+  return count == 64 ? met : met & ((uint64_t{1} << count) - 1);
+}
+
+uint64_t bounds_crossed_avx2(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
+                             uint32_t first, uint32_t count) {
+  // RayBoxBounds::may_cross4's operations, eight boxes at a time; masked loads as in
+  // boxes_crossed_avx2.
+  const RayBoxBounds& bounds = lanes.bounds;
+  const __m256 outward_size = _mm256_set1_ps(3 * kSlabGamma), one = _mm256_set1_ps(1.0f),
+               sign = _mm256_set1_ps(-0.0f);
+  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  uint64_t met = 0;
+  for (uint32_t k = 0; k < count; k += 8) {
+    const __m256i load = _mm256_cmpgt_epi32(_mm256_set1_epi32(int(count - k)), lane);
+    __m256 entry = _mm256_set1_ps(_mm_cvtss_f32(bounds.t0_lo)),
+           exit = _mm256_set1_ps(_mm_cvtss_f32(bounds.t1_hi));
+    for (int a = 0; a < 3; ++a) {
+      if (!(bounds.axes >> a & 1)) continue;
+      const __m256 near_gap =
+          _mm256_sub_ps(_mm256_maskload_ps(boxes + lanes.near_array[a] * stride + first + k, load),
+                        _mm256_set1_ps(_mm_cvtss_f32(bounds.near_origin[a])));
+      const __m256 far_gap =
+          _mm256_sub_ps(_mm256_maskload_ps(boxes + lanes.far_array[a] * stride + first + k, load),
+                        _mm256_set1_ps(_mm_cvtss_f32(bounds.far_origin[a])));
+      const __m256 inv_lo = _mm256_set1_ps(_mm_cvtss_f32(bounds.inv_lo[a])),
+                   inv_hi = _mm256_set1_ps(_mm_cvtss_f32(bounds.inv_hi[a]));
+      const __m256 least_near =
+          _mm256_min_ps(_mm256_mul_ps(near_gap, inv_lo), _mm256_mul_ps(near_gap, inv_hi));
+      const __m256 exact_far =
+          _mm256_max_ps(_mm256_mul_ps(far_gap, inv_lo), _mm256_mul_ps(far_gap, inv_hi));
+      const __m256 outward = _mm256_or_ps(_mm256_and_ps(exact_far, sign), outward_size);
+      entry = _mm256_max_ps(least_near, entry);
+      exit = _mm256_min_ps(_mm256_mul_ps(exact_far, _mm256_add_ps(one, outward)), exit);
+    }
+    met |= uint64_t(uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(entry, exit, _CMP_NGT_UQ)))) << k;
   }
   return count == 64 ? met : met & ((uint64_t{1} << count) - 1);
 }

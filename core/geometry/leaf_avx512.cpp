@@ -128,12 +128,13 @@ uint64_t test_rays_avx512(const LeafView& leaf, uint32_t tri, const RayLanes& ra
   return hits;
 }
 
-void rays_crossed_avx512(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
-                         uint32_t first, uint32_t count, uint64_t rays, uint64_t* crossing) {
+uint64_t rays_crossed_avx512(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
+                             uint32_t first, uint64_t which, uint64_t rays, uint64_t* crossing) {
   // slab_test4's operations, sixteen rays at a time.
   const __m512 outward_size = _mm512_set1_ps(3 * kSlabGamma), one = _mm512_set1_ps(1.0f);
   const __m512i sign = _mm512_set1_epi32(int32_t(0x80000000u));
-  for (uint32_t k = 0; k < count; ++k) crossing[k] = 0;
+  for (uint64_t boxes_left = which; boxes_left != 0; boxes_left &= boxes_left - 1)
+    crossing[std::countr_zero(boxes_left)] = 0;
   for (uint64_t left = rays; left != 0;) {
     const uint32_t group = uint32_t(std::countr_zero(left)) & ~15u;
     const __m512 t0 = _mm512_load_ps(lanes.t0 + group), t1 = _mm512_load_ps(lanes.t1 + group);
@@ -141,7 +142,8 @@ void rays_crossed_avx512(const RayBoxLanes& lanes, const float* boxes, uint32_t 
     for (int a = 0; a < 3; ++a)
       origin[a] = _mm512_load_ps(lanes.origin[a] + group),
       inv_dir[a] = _mm512_load_ps(lanes.inv_dir[a] + group);
-    for (uint32_t k = 0; k < count; ++k) {
+    for (uint64_t boxes_left = which; boxes_left != 0; boxes_left &= boxes_left - 1) {
+      const auto k = uint32_t(std::countr_zero(boxes_left));
       __m512 entry = t0, exit = t1;
       for (int a = 0; a < 3; ++a) {
         const __m512 near_face = _mm512_set1_ps(boxes[lanes.near_array[a] * stride + first + k]);
@@ -162,7 +164,13 @@ void rays_crossed_avx512(const RayBoxLanes& lanes, const float* boxes, uint32_t 
     }
     left &= ~(uint64_t{0xFFFF} << group);
   }
-  for (uint32_t k = 0; k < count; ++k) crossing[k] &= rays;
+  uint64_t crossed = 0;
+  for (; which != 0; which &= which - 1) {
+    const auto k = uint32_t(std::countr_zero(which));
+    crossing[k] &= rays;
+    crossed |= uint64_t(crossing[k] != 0) << k;
+  }
+  return crossed;
 }
 
 uint64_t boxes_crossed_avx512(const RayBoxes& ray, const float* boxes, uint32_t stride,
@@ -196,6 +204,45 @@ uint64_t boxes_crossed_avx512(const RayBoxes& ray, const float* boxes, uint32_t 
       exit = _mm512_mask_min_ps(exit, 0xFFFF, t_far, exit);
     }
     met |= uint64_t(_mm512_mask_cmp_ps_mask(load, entry, exit, _CMP_LE_OQ)) << k;
+  }
+  return met;
+}
+
+uint64_t bounds_crossed_avx512(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
+                               uint32_t first, uint32_t count) {
+  // RayBoxBounds::may_cross4's operations, sixteen boxes at a time; masked loads as in
+  // boxes_crossed_avx512.
+  const RayBoxBounds& bounds = lanes.bounds;
+  const __m512 outward_size = _mm512_set1_ps(3 * kSlabGamma), one = _mm512_set1_ps(1.0f);
+  const __m512i sign = _mm512_set1_epi32(int32_t(0x80000000u));
+  uint64_t met = 0;
+  for (uint32_t k = 0; k < count; k += 16) {
+    const __mmask16 load = count - k >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << (count - k)) - 1);
+    __m512 entry = _mm512_set1_ps(_mm_cvtss_f32(bounds.t0_lo)),
+           exit = _mm512_set1_ps(_mm_cvtss_f32(bounds.t1_hi));
+    for (int a = 0; a < 3; ++a) {
+      if (!(bounds.axes >> a & 1)) continue;
+      const __m512 near_gap = _mm512_sub_ps(
+          _mm512_maskz_loadu_ps(load, boxes + lanes.near_array[a] * stride + first + k),
+          _mm512_set1_ps(_mm_cvtss_f32(bounds.near_origin[a])));
+      const __m512 far_gap = _mm512_sub_ps(
+          _mm512_maskz_loadu_ps(load, boxes + lanes.far_array[a] * stride + first + k),
+          _mm512_set1_ps(_mm_cvtss_f32(bounds.far_origin[a])));
+      const __m512 inv_lo = _mm512_set1_ps(_mm_cvtss_f32(bounds.inv_lo[a])),
+                   inv_hi = _mm512_set1_ps(_mm_cvtss_f32(bounds.inv_hi[a]));
+      // Merge-masked with every lane on, as in rays_crossed_avx512.
+      const __m512 least_near = _mm512_mask_min_ps(
+          near_gap, 0xFFFF, _mm512_mul_ps(near_gap, inv_lo), _mm512_mul_ps(near_gap, inv_hi));
+      const __m512 exact_far = _mm512_mask_max_ps(far_gap, 0xFFFF, _mm512_mul_ps(far_gap, inv_lo),
+                                                  _mm512_mul_ps(far_gap, inv_hi));
+      const __m512 outward = _mm512_castsi512_ps(
+          _mm512_or_si512(_mm512_and_si512(_mm512_castps_si512(exact_far), sign),
+                          _mm512_castps_si512(outward_size)));
+      entry = _mm512_mask_max_ps(entry, 0xFFFF, least_near, entry);
+      exit = _mm512_mask_min_ps(exit, 0xFFFF, _mm512_mul_ps(exact_far, _mm512_add_ps(one, outward)),
+                                exit);
+    }
+    met |= uint64_t(_mm512_mask_cmp_ps_mask(load, entry, exit, _CMP_NGT_UQ)) << k;
   }
   return met;
 }

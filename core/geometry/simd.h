@@ -22,12 +22,20 @@ uint64_t test_rays_scalar(const LeafView& leaf, uint32_t tri, const RayLanes& ra
                           RayHits& out);
 
 // RaysCrossed with 4 (SSE), 8 and 16 rays in lanes.
-void rays_crossed_sse(const RayBoxLanes& lanes, const float* boxes, uint32_t stride, uint32_t first,
-                      uint32_t count, uint64_t rays, uint64_t* crossing);
-void rays_crossed_avx2(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
-                       uint32_t first, uint32_t count, uint64_t rays, uint64_t* crossing);
-void rays_crossed_avx512(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
-                         uint32_t first, uint32_t count, uint64_t rays, uint64_t* crossing);
+uint64_t rays_crossed_sse(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
+                          uint32_t first, uint64_t which, uint64_t rays, uint64_t* crossing);
+uint64_t rays_crossed_avx2(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
+                           uint32_t first, uint64_t which, uint64_t rays, uint64_t* crossing);
+uint64_t rays_crossed_avx512(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
+                             uint32_t first, uint64_t which, uint64_t rays, uint64_t* crossing);
+
+// BoundsCrossed with 4 (SSE), 8 and 16 boxes in lanes.
+uint64_t bounds_crossed_sse(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
+                            uint32_t first, uint32_t count);
+uint64_t bounds_crossed_avx2(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
+                             uint32_t first, uint32_t count);
+uint64_t bounds_crossed_avx512(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
+                               uint32_t first, uint32_t count);
 
 // BoxesCrossed with 4 (SSE), 8 and 16 boxes in lanes.
 uint64_t boxes_crossed_sse(const RayBoxes& ray, const float* boxes, uint32_t stride, uint32_t first,

@@ -153,7 +153,8 @@ void Grid1D::visit(uint32_t ref, uint64_t rays, const double* t_in, const double
 // The cells of node `id` the rays cover, front to back (§5.3's order, for the packet's
 // direction on the node's axis): per ray the cells between where its point lies at t_in and
 // at t_out, one more each side (point location rounds; the walls below decide). Per cell,
-// the rays that cover it are box-tested four at a time against the cell's content box, and
+// unless the packet's bounds rule its content box out (RayBoxBounds, for the cell's group of
+// four at once), the rays that cover it are box-tested several at a time against it, and
 // those that meet it step in between its walls (each wall distance as the single walk's
 // traversal state computes it, t_origin + I * t_width, widened by the slack) if they enter
 // before their stop distance.
@@ -188,6 +189,10 @@ void Grid1D::visit_node(uint32_t id, uint64_t rays, const double* t_in, const do
     });
   }
   uint64_t covering = 0;
+  // The bounds test of the cells' group of four content boxes (RayBoxBounds), made when the
+  // first of them is reached.
+  int64_t bounded_group = -1;
+  uint32_t group_may_cross = 0;
   for (int64_t k = 0; k < run; ++k) {
     const int64_t cell = walk.step[b] > 0 ? cover_lo + k : cover_hi - k;
     if (by_events) covering = (covering | begins[k]) & ~ends[k];
@@ -201,10 +206,14 @@ void Grid1D::visit_node(uint32_t id, uint64_t rays, const double* t_in, const do
     }
     const uint64_t candidates = covering & ~walk.done;
     if (candidates == 0) continue;
+    const float* group = box_group(boxes, uint32_t(cell));
+    if (cell >> 2 != bounded_group)
+      bounded_group = cell >> 2, group_may_cross = box_lanes.may_cross4(group, 4, 0);
+    if (!(group_may_cross >> box_lane(uint32_t(cell)) & 1)) continue;
     uint64_t meeting = 0;
-    kernel_.rays_crossed(box_lanes, box_group(boxes, uint32_t(cell)), 4, box_lane(uint32_t(cell)),
-                         1, candidates, &meeting);
-    if (meeting == 0) continue;
+    if (!kernel_.rays_crossed(box_lanes, group, 4, box_lane(uint32_t(cell)), 1, candidates,
+                              &meeting))
+      continue;
     const uint64_t entering = lane_ops_.enter(lines, b, cover, double(first + cell), meeting, t_in,
                                               t_out, child_in, child_out);
     if (entering == 0) continue;
@@ -215,57 +224,74 @@ void Grid1D::visit_node(uint32_t id, uint64_t rays, const double* t_in, const do
   }
 }
 
-// Each of `rays` not done searches the leaf (docs/design.md §6.9): triangle by triangle,
-// the rays that cross its box (as the single-ray leaf loop filters, docs/design.md §6.7) and
-// have not tested it yet (the packet's mailbox) are tested several at a time, rays in
-// lanes, each up to its own nearest hit; a hit moves the ray's stop distance in. The box
-// tests of a run of triangles are made together (each group of rays loaded once), with the
-// segments the rays had on entering the leaf: those change only after the search.
+// Each of `rays` not done searches the leaf (docs/design.md §6.9): the rays that cross a
+// triangle's box (as the single-ray leaf loop filters, docs/design.md §6.7) test it. The box
+// tests of a run of triangles are made together, with the segments the rays had on entering
+// the leaf (those change only after the search): first the packet's bounds against several
+// boxes at a time, which rules out the boxes no ray can cross, then each group of rays,
+// loaded once, against the boxes left.
 template <bool AnyHit>
 void Grid1D::search_leaf(const LeafView& leaf, uint64_t rays, PacketWalk& walk) const {
   Context& context = walk.context;
-  TraceCounters& counters = context.counters;
-  RayLanes& lanes = context.ray_lanes;
   RayBoxLanes& box_lanes = context.ray_box_lanes;
-  RayHits& out = context.ray_hits;
   uint64_t searching = rays & ~walk.done, improved = 0;
-  counters.traversal_steps += uint64_t(std::popcount(searching));
+  context.counters.traversal_steps += uint64_t(std::popcount(searching));
   constexpr uint32_t kRun = 64;
   uint64_t crossing[kRun];
-  for (uint32_t i = 0; i < leaf.count && searching != 0; ++i) {
-    if (i % kRun == 0) {
-      const uint32_t run = std::min(kRun, leaf.count - i);
-      if (leaf.boxes)
-        kernel_.rays_crossed(box_lanes, leaf.boxes, box_stride(leaf.count), i, run, searching,
-                             crossing);
-      else
-        std::fill(crossing, crossing + run, searching);
+  for (uint32_t base = 0; base < leaf.count && searching != 0; base += kRun) {
+    const uint32_t run = std::min(kRun, leaf.count - base);
+    uint64_t crossed = run == kRun ? ~uint64_t{0} : (uint64_t{1} << run) - 1;
+    if (leaf.boxes != nullptr) {
+      const uint32_t stride = box_stride(leaf.count);
+      // The bounds test first: it rules out whole boxes.
+      const uint64_t may_cross = kernel_.bounds_crossed(box_lanes, leaf.boxes, stride, base, run);
+      crossed =
+          kernel_.rays_crossed(box_lanes, leaf.boxes, stride, base, may_cross, searching, crossing);
+    } else {
+      std::fill(crossing, crossing + run, searching);
     }
-    const uint64_t crossers = searching & crossing[i % kRun];
-    if (crossers == 0) continue;
-    const uint32_t id = leaf.ids[i];
-    const uint64_t already =
-        id & kOnlyHere ? 0 : context.packet_mailbox.mark(id, walk.id, crossers);
-    counters.mailbox_rejections += uint64_t(std::popcount(already));
-    const uint64_t testing = crossers & ~already;
-    if (testing == 0) continue;
-    counters.intersection_tests += uint64_t(std::popcount(testing));
-    const auto triangle = int32_t(leaf.id(i));
-    for_each_ray(kernel_.test_rays(leaf, i, lanes, testing, out), [&](uint32_t r) {
-      if (!closer(out.t[r], triangle, walk.best[r])) return;
-      walk.best[r] = {triangle, out.t[r], out.u[r], out.v[r]};
-      lanes.tmax[r] = out.t[r];
-      improved |= uint64_t{1} << r;
-      if (!AnyHit) return;
-      walk.done |= uint64_t{1} << r;
-      searching &= ~(uint64_t{1} << r);
-    });
+    for (; crossed != 0 && searching != 0; crossed &= crossed - 1)
+      test_crossers<AnyHit>(leaf, base + uint32_t(std::countr_zero(crossed)),
+                            searching & crossing[std::countr_zero(crossed)], searching, improved,
+                            walk);
   }
   if (AnyHit) return;
   PacketLines& lines = context.packet_lines;
+  const RayLanes& lanes = context.ray_lanes;
   for_each_ray(improved, [&](uint32_t r) {
     lines.stop[r] = walk_stop(lanes.tmax[r], lines.slack[r], lines.shift[r]);
     box_lanes.set_end(r, box_test_end(lines.far >> r & 1, lines.shift[r], lines.stop[r]));
+  });
+}
+
+// Triangle i of the leaf against `crossers`, the searching rays that cross its box: those
+// that have not tested it yet (the packet's mailbox) are tested several at a time, rays in
+// lanes, each up to its own nearest hit; a hit moves the ray's stop distance in.
+template <bool AnyHit>
+[[gnu::always_inline]] inline void Grid1D::test_crossers(const LeafView& leaf, uint32_t i,
+                                                         uint64_t crossers, uint64_t& searching,
+                                                         uint64_t& improved,
+                                                         PacketWalk& walk) const {
+  if (crossers == 0) return;
+  Context& context = walk.context;
+  TraceCounters& counters = context.counters;
+  const uint32_t id = leaf.ids[i];
+  const uint64_t already = id & kOnlyHere ? 0 : context.packet_mailbox.mark(id, walk.id, crossers);
+  counters.mailbox_rejections += uint64_t(std::popcount(already));
+  const uint64_t testing = crossers & ~already;
+  if (testing == 0) return;
+  counters.intersection_tests += uint64_t(std::popcount(testing));
+  const auto triangle = int32_t(leaf.id(i));
+  RayLanes& lanes = context.ray_lanes;
+  RayHits& out = context.ray_hits;
+  for_each_ray(kernel_.test_rays(leaf, i, lanes, testing, out), [&](uint32_t r) {
+    if (!closer(out.t[r], triangle, walk.best[r])) return;
+    walk.best[r] = {triangle, out.t[r], out.u[r], out.v[r]};
+    lanes.tmax[r] = out.t[r];
+    improved |= uint64_t{1} << r;
+    if (!AnyHit) return;
+    walk.done |= uint64_t{1} << r;
+    searching &= ~(uint64_t{1} << r);
   });
 }
 

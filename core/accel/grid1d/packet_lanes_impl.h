@@ -54,6 +54,8 @@ struct LaneMath {
   static Real max(Real a, Real b) { return a < b ? b : a; }  // std::max(a, b)
   static Int min(Int a, Int b) { return b < a ? b : a; }
   static Int max(Int a, Int b) { return a < b ? b : a; }
+  static Float min(Float a, Float b) { return b < a ? b : a; }
+  static Float max(Float a, Float b) { return a < b ? b : a; }
   // Lane i set where bit i of `group` is.
   static Int lanes_of(uint64_t group) {
     Int bit{};
@@ -159,7 +161,10 @@ struct LaneMath {
   static void prepare(PacketLines& l, uint64_t rays, const int axes[3], RayLanes& kernel_lanes,
                       RayBoxLanes& box_lanes) {
     const float infinity = std::numeric_limits<float>::infinity();
-    for_each_group(rays, [&](uint32_t first, uint32_t /*group*/) {
+    Float lo[3], hi[3], inv_lo[3], inv_hi[3];  // the bounds of box_lanes' rays, per lane
+    Float t0_lo = Float{} + infinity, t1_hi = Float{} - infinity;
+    for (int a = 0; a < 3; ++a) lo[a] = inv_lo[a] = t0_lo, hi[a] = inv_hi[a] = t1_hi;
+    for_each_group(rays, [&](uint32_t first, uint32_t group) {
       double* kernel_origin[3] = {kernel_lanes.ox, kernel_lanes.oy, kernel_lanes.oz};
       for (int k = 0; k < 3; ++k) store(kernel_origin[k] + first, load(&l.origin[axes[k]][first]));
       const Real sz = load(&l.inv_dir[axes[2]][first]);
@@ -173,19 +178,47 @@ struct LaneMath {
       store(kernel_lanes.tmax + first, tmax);
       // Far rays test no box: every box crossed (RayBoxes without culling).
       const Int far = narrow(wide_lanes_of(l.far >> first));
+      const Int in = lanes_of(group);
       for (int a = 0; a < 3; ++a) {
-        const Float origin = load_float(&l.ray_origin[a][first]);
-        store(&box_lanes.origin[a][first], far ? Float{} : origin);
-        store(&box_lanes.inv_dir[a][first],
-              far ? Float{} : 1.0f / load_float(&l.ray_dir[a][first]));
+        const Float origin = far ? Float{} : load_float(&l.ray_origin[a][first]);
+        const Float inv_dir = far ? Float{} : 1.0f / load_float(&l.ray_dir[a][first]);
+        store(&box_lanes.origin[a][first], origin);
+        store(&box_lanes.inv_dir[a][first], inv_dir);
+        lo[a] = in ? min(lo[a], origin) : lo[a], hi[a] = in ? max(hi[a], origin) : hi[a];
+        inv_lo[a] = in ? min(inv_lo[a], inv_dir) : inv_lo[a];
+        inv_hi[a] = in ? max(inv_hi[a], inv_dir) : inv_hi[a];
       }
       const Real stop =
           __builtin_convertvector(next_float_up(tmax), Real) + load(&l.slack[first]) - shift;
       store(&l.stop[first], stop);
-      store(&box_lanes.t0[first],
-            far ? Float{} - infinity : float_down(shift + load(&l.t0[first])));
-      store(&box_lanes.t1[first], far ? Float{} + infinity : float_up(shift + stop));
+      const Float t0 = far ? Float{} - infinity : float_down(shift + load(&l.t0[first]));
+      const Float t1 = far ? Float{} + infinity : float_up(shift + stop);
+      store(&box_lanes.t0[first], t0);
+      store(&box_lanes.t1[first], t1);
+      t0_lo = in ? min(t0_lo, t0) : t0_lo, t1_hi = in ? max(t1_hi, t1) : t1_hi;
     });
+    set_bounds(lo, hi, inv_lo, inv_hi, t0_lo, t1_hi, box_lanes.bounds);
+  }
+
+  // The packet's bounds (RayBoxBounds) from per-lane ones: the least and greatest over lanes.
+  static void set_bounds(const Float lo[3], const Float hi[3], const Float inv_lo[3],
+                         const Float inv_hi[3], Float t0_lo, Float t1_hi, RayBoxBounds& bounds) {
+    float origin_lo[3], origin_hi[3], inv_dir_lo[3], inv_dir_hi[3];
+    for (int a = 0; a < 3; ++a) {
+      origin_lo[a] = least(lo[a]), origin_hi[a] = greatest(hi[a]);
+      inv_dir_lo[a] = least(inv_lo[a]), inv_dir_hi[a] = greatest(inv_hi[a]);
+    }
+    bounds.set(origin_lo, origin_hi, inv_dir_lo, inv_dir_hi, least(t0_lo), greatest(t1_hi));
+  }
+  static float least(Float v) {
+    float m = v[0];
+    for (uint32_t i = 1; i < kWidth; ++i) m = v[i] < m ? v[i] : m;
+    return m;
+  }
+  static float greatest(Float v) {
+    float m = v[0];
+    for (uint32_t i = 1; i < kWidth; ++i) m = m < v[i] ? v[i] : m;
+    return m;
   }
 
   // The lane groups holding one of `rays`, by the number of their first ray.
