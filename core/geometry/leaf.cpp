@@ -143,13 +143,11 @@ void force_kernel_isa(Isa isa) {
 
 uint64_t rays_crossed_sse(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
                           uint32_t first, uint64_t which, uint64_t rays, uint64_t* crossing) {
-  uint64_t crossed = 0;
-  for (; which != 0; which &= which - 1) {
-    const auto k = uint32_t(std::countr_zero(which));
+  for (uint64_t left = which; left != 0; left &= left - 1) {
+    const auto k = uint32_t(std::countr_zero(left));
     crossing[k] = lanes.crossed(boxes, stride, first + k, rays);
-    crossed |= uint64_t(crossing[k] != 0) << k;
   }
-  return crossed;
+  return boxes_with_crossers(which, rays, crossing);
 }
 
 Kernel kernel_for(Isa isa) {

@@ -162,13 +162,7 @@ uint64_t rays_crossed_avx2(const RayBoxLanes& lanes, const float* boxes, uint32_
     }
     left &= ~(uint64_t{255} << group);
   }
-  uint64_t crossed = 0;
-  for (; which != 0; which &= which - 1) {
-    const auto k = uint32_t(std::countr_zero(which));
-    crossing[k] &= rays;
-    crossed |= uint64_t(crossing[k] != 0) << k;
-  }
-  return crossed;
+  return boxes_with_crossers(which, rays, crossing);
 }
 
 uint64_t boxes_crossed_avx2(const RayBoxes& ray, const float* boxes, uint32_t stride,

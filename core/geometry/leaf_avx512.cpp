@@ -164,13 +164,7 @@ uint64_t rays_crossed_avx512(const RayBoxLanes& lanes, const float* boxes, uint3
     }
     left &= ~(uint64_t{0xFFFF} << group);
   }
-  uint64_t crossed = 0;
-  for (; which != 0; which &= which - 1) {
-    const auto k = uint32_t(std::countr_zero(which));
-    crossing[k] &= rays;
-    crossed |= uint64_t(crossing[k] != 0) << k;
-  }
-  return crossed;
+  return boxes_with_crossers(which, rays, crossing);
 }
 
 uint64_t boxes_crossed_avx512(const RayBoxes& ray, const float* boxes, uint32_t stride,

@@ -2,6 +2,8 @@
 // file (leaf_avx2.cpp, leaf_avx512.cpp) and called only when the CPU has it
 // (core/geometry/leaf.h, kernel_for).
 #pragma once
+#include <bit>
+
 #include "core/geometry/leaf.h"
 
 namespace gs {
@@ -20,6 +22,18 @@ uint64_t test_rays_avx512(const LeafView& leaf, uint32_t tri, const RayLanes& ra
                           RayHits& out);
 uint64_t test_rays_scalar(const LeafView& leaf, uint32_t tri, const RayLanes& rays, uint64_t lanes,
                           RayHits& out);
+
+// The boxes (bits of `which`) of a RaysCrossed call whose crossing entries hold a ray of
+// `rays`, after those entries are cut to `rays` (the wide kernels test whole groups of rays).
+inline uint64_t boxes_with_crossers(uint64_t which, uint64_t rays, uint64_t* crossing) {
+  uint64_t crossed = 0;
+  for (; which != 0; which &= which - 1) {
+    const auto k = uint32_t(std::countr_zero(which));
+    crossing[k] &= rays;
+    crossed |= uint64_t(crossing[k] != 0) << k;
+  }
+  return crossed;
+}
 
 // RaysCrossed with 4 (SSE), 8 and 16 rays in lanes.
 uint64_t rays_crossed_sse(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
