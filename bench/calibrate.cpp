@@ -418,7 +418,7 @@ json validate(const CostFit& fit, double share) {
       for (int x = 0; x < kSide; ++x) rays.push_back(primary_ray(x, y));
     const std::unique_ptr<Accelerator> grid = make_accelerator("grid1d", AccelParams{});
     grid->build(scene);
-    sample_run(*grid, image_sample(rays, kSide, kSide), rays.size());
+    sample_run(*grid, image_sample(rays, kSide, kSide), rays.size(), 1);
     rows.push_back(
         row_json(measure("builtin:" + name + ", default view", *grid, rays, share), fit));
   }

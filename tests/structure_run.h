@@ -30,7 +30,7 @@ inline std::unique_ptr<Accelerator> build_structure(const StructureRun& run, con
   std::unique_ptr<Accelerator> accel = make_accelerator(run.accel, run.params);
   accel->build(scene);
   if (run.sample && !rays.empty())
-    sample_run(*accel, sample_subset(rays, run.params.sample_every), rays.size());
+    sample_run(*accel, sample_subset(rays, run.params.sample_every), rays.size(), run.threads);
   if (run.eager) accel->build_all();
   return accel;
 }

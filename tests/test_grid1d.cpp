@@ -2,11 +2,15 @@
 // every preset of its parameters, lazy or eager, with one thread or two.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <set>
 #include <span>
 
 #include "core/accel/grid1d/grid1d.h"
 #include "core/accel/walk.h"
+#include "core/scene/camera.h"
+#include "core/scene/lighting.h"
 #include "core/trace/sampling.h"
 #include "tests/cases.h"
 #include "tests/test_util.h"
@@ -100,8 +104,8 @@ TEST(Grid1DBuild, LazyTwoThreadsBuildTheSameVoxelsAsEager) {
   Grid1D lazy(params), eager(params);
   lazy.build(c.scene);
   eager.build(c.scene);
-  sample_run(lazy, sample_subset(c.rays, 64), c.rays.size());
-  sample_run(eager, sample_subset(c.rays, 64), c.rays.size());
+  sample_run(lazy, sample_subset(c.rays, 64), c.rays.size(), 2);
+  sample_run(eager, sample_subset(c.rays, 64), c.rays.size(), 1);
   eager.build_all();
   test::trace_all(lazy, c.rays, 2);
   lazy.build_all();
@@ -119,6 +123,34 @@ TEST(Grid1DBuild, LazyTwoThreadsBuildTheSameVoxelsAsEager) {
                    double(grid->voxel(id).granularity)});
     }
   EXPECT_EQ(lazy_cuts, eager_cuts);
+}
+
+// The sampling pass's scout traces its sample, and the shadow rays the sample's hits cast, on
+// any number of threads: the segments, and so every cut, are one thread's.
+TEST(Grid1DSampling, TheScoutsThreadsCutWhatOneThreadCuts) {
+  const Scene& scene = cases()[1].scene;
+  const Camera camera = frame_box(scene.bounds());
+  const Lighting lighting = make_lighting(scene, camera, std::nullopt);
+  constexpr int kSide = 40;
+  std::vector<Ray> primaries;
+  for (int y = 0; y < kSide; ++y)
+    for (int x = 0; x < kSide; ++x) primaries.push_back(camera.primary_ray(x, y, kSide, kSide));
+  const auto cuts = [&](int threads) {
+    Grid1D grid{AccelParams{}};
+    grid.build(scene);
+    sample_image_rays(grid, scene, lighting, primaries, 64 * primaries.size(), threads);
+    EXPECT_EQ(grid.build_progress()->figures().sample_rays_traced, primaries.size());
+    grid.build_all();
+    std::vector<std::array<uint32_t, 3>> out;
+    for (uint32_t v = 0; v < grid.voxel_count(); ++v)
+      out.push_back({grid.voxel(v).status.load(), grid.voxel(v).axis, grid.voxel(v).granularity});
+    return out;
+  };
+  const auto one = cuts(1);
+  EXPECT_GT(std::count_if(one.begin(), one.end(),
+                          [](const auto& cut) { return cut[0] == Grid1D::kSplit; }),
+            20);
+  for (const int threads : {2, 3, 8}) EXPECT_EQ(cuts(threads), one) << threads << " threads";
 }
 
 // The sampling pass cuts with segments that already end at their hits (§1.5): a sample whose
@@ -153,7 +185,7 @@ TEST(Grid1DSampling, CutsSeeSegmentsEndingAtTheirHits) {
     params.axis = AxisRule::cost;  // the z cut that puts the wall and the cluster apart
     auto grid = std::make_unique<Grid1D>(params);
     grid->build(scene);
-    sample_run(*grid, sample, sample.size());
+    sample_run(*grid, sample, sample.size(), 1);
     grid->build_all();
     std::vector<std::array<uint32_t, 3>> cuts;
     for (uint32_t v = 0; v < grid->voxel_count(); ++v)
@@ -175,7 +207,7 @@ TEST(Grid1DWalk, RecordsTheCellsTheWalkLooksAt) {
   const Case& c = cases()[1];
   Grid1D grid(AccelParams{});
   grid.build(c.scene);
-  sample_run(grid, sample_subset(c.rays, 64), c.rays.size());
+  sample_run(grid, sample_subset(c.rays, 64), c.rays.size(), 1);
   auto context = grid.make_context();
   size_t cells = 0, multi_cell = 0, hits = 0;
   const auto inside = [](const Ray& ray, double t, const WalkCell& cell, int a, double bound) {

@@ -176,7 +176,8 @@ class SampleSpy final : public Accelerator {
  public:
   std::string name() const override { return "spy"; }
   void build(const Scene& scene) override { brute_.build(scene); }
-  void sample(std::span<const Ray> rays, double weight, const SpawnRays& spawn) override {
+  void sample(std::span<const Ray> rays, double weight, const SpawnRays& spawn,
+              int /*threads*/) override {
     const std::unique_ptr<ThreadContext> context = brute_.make_context();
     primaries.assign(rays.begin(), rays.end());
     rays_per_sample_ray = weight;

@@ -165,8 +165,8 @@ TEST(Laziness, PartialViewBuildsFarFewerNodes) {
   Grid1D lazy(AccelParams{}), eager(AccelParams{});
   lazy.build(scene);
   eager.build(scene);
-  sample_run(lazy, sample_subset(rays, 64), rays.size());
-  sample_run(eager, sample_subset(rays, 64), rays.size());
+  sample_run(lazy, sample_subset(rays, 64), rays.size(), 2);
+  sample_run(eager, sample_subset(rays, 64), rays.size(), 1);
   eager.build_all();
   test::trace_all(lazy, rays, 2);
   const uint64_t lazy_nodes = *lazy.stats().nodes, eager_nodes = *eager.stats().nodes;
@@ -184,7 +184,7 @@ TEST(Sharing, StatesAreAFractionOfSubdividedVoxels) {
     grid.build(scene);
     // Sample rays aimed at the triangles themselves, so dense detail is seen however small.
     const std::vector<Ray> rays = test::edge_and_vertex_rays(scene, 5, 262144);
-    sample_run(grid, sample_subset(rays, 64), rays.size());
+    sample_run(grid, sample_subset(rays, 64), rays.size(), 1);
     grid.build_all();
     const StructureStats stats = grid.stats();
     const double ratio = double(*stats.traversal_states) / double(*stats.voxels_subdivided);

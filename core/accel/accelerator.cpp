@@ -44,7 +44,7 @@ void Accelerator::trace_packet(std::span<const Ray> rays, std::span<const uint64
   }
 }
 
-void Accelerator::sample(std::span<const Ray>, double, const SpawnRays&) {}
+void Accelerator::sample(std::span<const Ray>, double, const SpawnRays&, int) {}
 
 std::vector<std::string> accelerator_names() {
   std::vector<std::string> names;

@@ -93,9 +93,10 @@ class Accelerator {
   // run so that the cost function knows how many rays cross a voxel; each sample ray stands
   // for `run_rays_per_sample_ray` rays of the run. `spawn`, when given, adds the rays the run
   // casts from a sample ray's answer (a renderer's shadow ray); they are sampled too, with
-  // the same weight. Default: nothing.
+  // the same weight. `spawn` may be called from `threads` threads at once, each call with a
+  // `next` of its own; the structure it builds must not depend on `threads`. Default: nothing.
   virtual void sample(std::span<const Ray> sample_rays, double run_rays_per_sample_ray,
-                      const SpawnRays& spawn = {});
+                      const SpawnRays& spawn = {}, int threads = 1);
   // Builds everything a lazy structure would build on demand (--eager). Default: nothing.
   virtual void build_all() {}
 

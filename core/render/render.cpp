@@ -398,7 +398,7 @@ void sample_image(const Scene& scene, Accelerator& accel, const Camera& camera,
   for (const size_t pixel : image_sample_pixels(w, h))
     primaries.push_back(primary_ray(int(pixel % size_t(w)), int(pixel / size_t(w))));
   sample_image_rays(accel, scene, make_lighting(scene, camera, settings.light), primaries,
-                    size_t(w) * size_t(h) * size_t(settings.spp));
+                    size_t(w) * size_t(h) * size_t(settings.spp), settings.threads);
 }
 
 RenderOutcome render_image(const Scene& scene, const Accelerator& accel, const Camera& camera,

@@ -4,19 +4,19 @@
 
 namespace gs {
 
-void sample_run(Accelerator& accel, std::span<const Ray> sample, size_t run_rays) {
-  if (!sample.empty()) accel.sample(sample, double(run_rays) / double(sample.size()));
+void sample_run(Accelerator& accel, std::span<const Ray> sample, size_t run_rays, int threads) {
+  if (!sample.empty()) accel.sample(sample, double(run_rays) / double(sample.size()), {}, threads);
 }
 
 void sample_image_rays(Accelerator& accel, const Scene& scene, const Lighting& lighting,
-                       std::span<const Ray> primaries, size_t run_primaries) {
+                       std::span<const Ray> primaries, size_t run_primaries, int threads) {
   if (primaries.empty()) return;
   const SpawnRays shadow_ray = [&](const Ray& ray, const Hit& hit, std::vector<Ray>& next) {
     if (!hit.found()) return;
     if (const auto path = light_path(surface_at(scene, hit, ray.dir), lighting))
       next.push_back(path->shadow);
   };
-  accel.sample(primaries, double(run_primaries) / double(primaries.size()), shadow_ray);
+  accel.sample(primaries, double(run_primaries) / double(primaries.size()), shadow_ray, threads);
 }
 
 // A regular subset of the run's rays (docs/design.md §1.5): indices 0, k, 2k, ...

@@ -50,9 +50,9 @@ double prepare(Accelerator& accel, const Scene& scene, const std::vector<Ray>& r
     seconds += seconds_of([&] {
       if (job.sample_camera)
         sample_image_rays(accel, scene, make_lighting(scene, *job.sample_camera, std::nullopt),
-                          subset, rays.size());
+                          subset, rays.size(), job.threads);
       else
-        sample_run(accel, subset, rays.size());
+        sample_run(accel, subset, rays.size(), job.threads);
     });
   }
   if (job.eager) seconds += seconds_of([&] { accel.build_all(); });

@@ -4,12 +4,15 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 
 #include "core/accel/grid1d/cost_model.h"
 #include "core/accel/grid1d/records.h"
 #include "core/base/error.h"
+#include "core/base/parallel.h"
 #include "core/base/timing.h"
 
 namespace gs {
@@ -134,15 +137,15 @@ void Grid1D::make_root() {
 
 // The sampling pass in two passes (§6.5: the segments that decide a cut must already end at
 // their hits). First a scout, a grid1d with no sample (every cut assumes plenty of rays),
-// traces the sample rays and those `spawn` adds, in order on one thread; then the segments,
+// traces the sample rays and those `spawn` adds, on `threads` threads; then the segments,
 // clipped at the scout's exact answers, go to this structure's root, which nothing has cut.
 // Every cut is thus a function of the sample alone.
 void Grid1D::sample(std::span<const Ray> sample_rays, double run_rays_per_sample_ray,
-                    const SpawnRays& spawn) {
+                    const SpawnRays& spawn, int threads) {
   if (sampled_ || (voxels_[0].status.load() != kUnexamined && voxels_[0].tri_count > 0))
     throw std::logic_error("Grid1D::sample must come once, before any tracing or build_all");
   const auto start = Clock::now();
-  sample_ = scout_sample(sample_rays, spawn);
+  sample_ = scout_sample(sample_rays, spawn, threads);
   sampled_ = true;
   rays_per_sample_ = run_rays_per_sample_ray;
   Region& root = regions_[0];
@@ -156,9 +159,51 @@ void Grid1D::sample(std::span<const Ray> sample_rays, double run_rays_per_sample
   build_seconds_ += seconds_since(start);
 }
 
-// The sample's segments inside the clip box, each ending at its ray's nearest hit.
+namespace {
+
+// A chunk of the scout's sample rays: their answers, and the rays `spawn` added for them, in
+// their order, with their answers.
+struct ScoutChunk {
+  std::vector<Hit> hits;
+  std::vector<Ray> spawned;
+  std::vector<Hit> spawned_hits;
+};
+constexpr size_t kScoutChunk = 64;
+
+// Traces the sample and what `spawn` adds to it, kScoutChunk rays at a time on `threads`
+// threads; `traced(count)` after each chunk, with the sample rays traced so far.
+std::vector<ScoutChunk> trace_sample(const Accelerator& scout, std::span<const Ray> sample_rays,
+                                     const SpawnRays& spawn, int threads,
+                                     const std::function<void(uint64_t)>& traced) {
+  const size_t n = sample_rays.size();
+  std::vector<ScoutChunk> chunks((n + kScoutChunk - 1) / kScoutChunk);
+  std::vector<std::unique_ptr<ThreadContext>> contexts(chunk_workers(n, kScoutChunk, threads));
+  for (auto& context : contexts) context = scout.make_context();
+  std::atomic<uint64_t> done{0};
+  parallel_chunks(n, kScoutChunk, threads, [&](size_t worker, size_t begin, size_t end) {
+    ThreadContext& context = *contexts[worker];
+    ScoutChunk& chunk = chunks[begin / kScoutChunk];
+    for (size_t i = begin; i < end; ++i) {
+      chunk.hits.push_back(scout.intersect(sample_rays[i], context));
+      if (!spawn) continue;
+      const size_t first = chunk.spawned.size();
+      spawn(sample_rays[i], chunk.hits.back(), chunk.spawned);
+      for (size_t k = first; k < chunk.spawned.size(); ++k)
+        chunk.spawned_hits.push_back(scout.intersect(chunk.spawned[k], context));
+    }
+    traced(done.fetch_add(end - begin, std::memory_order_relaxed) + (end - begin));
+  });
+  return chunks;
+}
+
+}  // namespace
+
+// The sample's segments inside the clip box, each ending at its ray's nearest hit: the sample
+// rays' in order, then those of the rays they spawned, in the order of the rays that spawned
+// them. Answers are exact in any structure however it was built, so the segments, and with
+// them every cut, do not depend on the threads or on the order they trace in.
 std::vector<Grid1D::SampleRay> Grid1D::scout_sample(std::span<const Ray> sample_rays,
-                                                    const SpawnRays& spawn) {
+                                                    const SpawnRays& spawn, int threads) {
   Grid1D scout(params_);
   // The scout borrows the build's input and gives it back however it leaves.
   struct Loan {
@@ -168,32 +213,32 @@ std::vector<Grid1D::SampleRay> Grid1D::scout_sample(std::span<const Ray> sample_
   } loan{input_, scout.input_};
   scout.input_ = std::move(input_);
   scout.make_root();
-  Context context(scout);
   progress_.sample_rays.store(sample_rays.size(), std::memory_order_relaxed);
-  std::vector<Ray> rays(sample_rays.begin(), sample_rays.end());
+  const std::vector<ScoutChunk> chunks = trace_sample(
+      scout, sample_rays, spawn, threads, [&](uint64_t traced) { report_sampling(traced, scout); });
   std::vector<SampleRay> segments;
-  for (size_t i = 0; i < rays.size(); ++i) {
-    const Ray ray = rays[i];  // `spawn` may grow `rays`
-    const Hit hit = scout.intersect(ray, context);
-    if (i < sample_rays.size()) {
-      if (spawn) spawn(ray, hit, rays);
-      report_sampling(i + 1, scout);
-    }
+  const auto add_segment = [&](const Ray& ray, const Hit& hit) {
     SampleRay s{};
     s.ray = ray;
-    if (!scout.input_.clip.clip(ray, s.t0, s.t1)) continue;
+    if (!scout.input_.clip.clip(ray, s.t0, s.t1)) return;
     if (hit.found()) s.t1 = std::min(s.t1, double(hit.t));
     for (int a = 0; a < 3; ++a) s.origin[a] = ray.origin[a], s.dir[a] = ray.dir[a];
     segments.push_back(s);
-  }
+  };
+  for (size_t i = 0; i < sample_rays.size(); ++i)
+    add_segment(sample_rays[i], chunks[i / kScoutChunk].hits[i % kScoutChunk]);
+  for (const ScoutChunk& chunk : chunks)
+    for (size_t k = 0; k < chunk.spawned.size(); ++k)
+      add_segment(chunk.spawned[k], chunk.spawned_hits[k]);
   return segments;
 }
 
-// The sampling pass's figures after `traced` of its rays: the scout builds as they go.
+// The sampling pass's figures after `traced` of its rays: the scout builds as they go. Several
+// threads report; the largest count reported stands.
 void Grid1D::report_sampling(uint64_t traced, const Grid1D& scout) const {
-  progress_.sample_rays_traced.store(traced, std::memory_order_relaxed);
-  progress_.scout_voxels_built.store(scout.progress_.voxels_built.load(std::memory_order_relaxed),
-                                     std::memory_order_relaxed);
+  raise_to(progress_.sample_rays_traced, traced);
+  raise_to(progress_.scout_voxels_built,
+           scout.progress_.voxels_built.load(std::memory_order_relaxed));
 }
 
 void Grid1D::build_all() {

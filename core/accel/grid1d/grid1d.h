@@ -60,7 +60,7 @@ class Grid1D final : public Accelerator {
   std::string name() const override { return "grid1d"; }
   void build(const Scene& scene) override;
   void sample(std::span<const Ray> sample_rays, double run_rays_per_sample_ray,
-              const SpawnRays& spawn = {}) override;
+              const SpawnRays& spawn = {}, int threads = 1) override;
   void build_all() override;
   Box bounds() const override { return input_.bounds; }
   std::unique_ptr<ThreadContext> make_context() const override;
@@ -165,7 +165,8 @@ class Grid1D final : public Accelerator {
 
   // Lazy build (build.cpp).
   void make_root();
-  std::vector<SampleRay> scout_sample(std::span<const Ray> sample_rays, const SpawnRays& spawn);
+  std::vector<SampleRay> scout_sample(std::span<const Ray> sample_rays, const SpawnRays& spawn,
+                                      int threads);
   void report_sampling(uint64_t traced, const Grid1D& scout) const;
   uint32_t examine(uint32_t voxel, Context& context) const;
   uint32_t settle(uint32_t voxel, Context& context) const;
