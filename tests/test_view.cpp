@@ -346,6 +346,34 @@ int differing_channels(const gs::test::Png& window, const gs::test::Png& shot, i
   return differing;
 }
 
+// Once the view has reached its last pass, later UI frames would look as the window does and
+// are not drawn (Mesa's CPU renderer would spend the cores the renderer traces on); the
+// window still shows the view: a screenshot taken after 60 such frames is the frame `shot`
+// draws for the same view.
+TEST(View, FramesThatWouldLookTheSameAreNotDrawnAndTheWindowStillShowsTheView) {
+  if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed: the viewer needs a display";
+  const std::string png = temp_path("view_idle.png"), stats_path = temp_path("view_idle.json");
+  const std::string flags = "builtin:pyramid --accel bvh";
+  const Outcome view = run_in_xvfb("view " + flags + " --size 800x600 --max-spp 1 --frames 60 " +
+                                   "--screenshot '" + png + "' --stats '" + stats_path + "'");
+  ASSERT_EQ(view.status, 0) << view.err;
+  const nlohmann::json stats = read_json(stats_path);
+  const nlohmann::json& frames = stats.at("window_frames");
+  EXPECT_EQ(frames.at("built"), 60);
+  EXPECT_GE(frames.at("drawn").get<int>(), 2) << "the coarse and the full-resolution pass";
+  EXPECT_LT(frames.at("drawn").get<int>(), 20) << frames.dump();
+  const int width = stats.at("view").at("width"), height = stats.at("view").at("height");
+  const std::string shot_png = temp_path("view_idle_shot.png");
+  const Outcome shot =
+      run("shot " + flags + " --size " + std::to_string(width) + "x" + std::to_string(height) +
+          " --camera '" + stats.at("view").at("camera").get<std::string>() + "' --out '" +
+          shot_png + "'");
+  ASSERT_EQ(shot.status, 0) << shot.err;
+  const gs::test::Png window = gs::test::load_png(png), frame = gs::test::load_png(shot_png);
+  ASSERT_EQ(frame.width, width);
+  EXPECT_EQ(differing_channels(window, frame, width, 0, 0, width, 0, height), 0);
+}
+
 // A/B of two structures built up front (their per-pixel counts are the same every run), one
 // sample per pixel: the viewer's split viewport shows A's heatmap left of the divider and B's
 // right of it, on the scale `shot --compare` uses for the same view; difference mode is

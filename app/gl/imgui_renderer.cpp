@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 
 #include "app/gl/program.h"
 #include "app/gl/shaders.h"
@@ -132,6 +133,49 @@ void ImGuiRenderer::draw(const ImDrawData* data) {
   glBindVertexArray(0);
   glDisable(GL_SCISSOR_TEST);
   glDisable(GL_BLEND);
+}
+
+namespace {
+
+template <class T>
+void append(std::vector<unsigned char>& bytes, const T* data, size_t count) {
+  const auto* from = reinterpret_cast<const unsigned char*>(data);
+  bytes.insert(bytes.end(), from, from + count * sizeof(T));
+}
+template <class T>
+void append(std::vector<unsigned char>& bytes, const T& value) {
+  append(bytes, &value, 1);
+}
+
+}  // namespace
+
+bool DrawDataRecord::changed(const ImDrawData* data) {
+  current_.clear();
+  append(current_, data->DisplayPos);
+  append(current_, data->DisplaySize);
+  append(current_, data->FramebufferScale);
+  append(current_, data->CmdListsCount);
+  for (int n = 0; n < data->CmdListsCount; ++n) {
+    const ImDrawList& list = *data->CmdLists[n];
+    append(current_, list.CmdBuffer.Size);
+    // Field by field: a command's padding bytes say nothing.
+    for (const ImDrawCmd& cmd : list.CmdBuffer) {
+      append(current_, cmd.ClipRect);
+      append(current_, cmd.TextureId);
+      append(current_, cmd.VtxOffset);
+      append(current_, cmd.IdxOffset);
+      append(current_, cmd.ElemCount);
+      append(current_, cmd.UserCallback);
+      append(current_, cmd.UserCallbackData);
+    }
+    append(current_, list.VtxBuffer.Size);
+    append(current_, list.VtxBuffer.Data, size_t(list.VtxBuffer.Size));
+    append(current_, list.IdxBuffer.Size);
+    append(current_, list.IdxBuffer.Data, size_t(list.IdxBuffer.Size));
+  }
+  const bool same = current_ == recorded_;
+  std::swap(current_, recorded_);
+  return !same;
 }
 
 }  // namespace gs::gl

@@ -7,6 +7,8 @@
 #include <imgui.h>
 #include <imgui/backends/imgui_impl_glfw.h>
 
+#include <utility>
+
 #include "core/base/error.h"
 
 namespace gs::gl {
@@ -53,6 +55,11 @@ Window::Window(int width, int height, const std::string& title) {
   if (!window_) fail("no OpenGL 3.3 core context");
   glfwMakeContextCurrent(window_);
   glfwSwapInterval(1);
+  // ImGui's GLFW backend installs no refresh callback and uses no window user pointer.
+  glfwSetWindowUserPointer(window_, this);
+  glfwSetWindowRefreshCallback(window_, [](GLFWwindow* window) {
+    static_cast<Window*>(glfwGetWindowUserPointer(window))->refresh_requested_ = true;
+  });
   const int version = gladLoadGL(glfw_proc);
   if (version == 0 || GLAD_VERSION_MAJOR(version) * 10 + GLAD_VERSION_MINOR(version) < 33)
     fail("OpenGL 3.3 functions missing");
@@ -83,6 +90,8 @@ void Window::wait_events(double seconds) { glfwWaitEventsTimeout(seconds); }
 void Window::begin_frame() { ImGui_ImplGlfw_NewFrame(); }
 
 void Window::swap() { glfwSwapBuffers(window_); }
+
+bool Window::take_refresh_request() { return std::exchange(refresh_requested_, false); }
 
 glm::ivec2 Window::framebuffer_size() const {
   glm::ivec2 size(0);

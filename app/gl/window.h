@@ -31,6 +31,9 @@ class Window {
   // Starts the backend's ImGui frame (call before ImGui::NewFrame).
   void begin_frame();
   void swap();
+  // True once after the window system asked for the window to be drawn again (it was
+  // uncovered, say): what it showed is gone, changed or not.
+  bool take_refresh_request();
   // Framebuffer size in pixels (what glViewport and glReadPixels count).
   glm::ivec2 framebuffer_size() const;
   // Nothing to draw into: iconified, a 0x0 framebuffer, or resize(0, 0).
@@ -43,6 +46,7 @@ class Window {
  private:
   GLFWwindow* window_ = nullptr;
   bool minimised_by_resize_ = false;
+  bool refresh_requested_ = true;  // nothing drawn yet
 };
 
 }  // namespace gs::gl

@@ -168,7 +168,7 @@ bool CompareView::refresh_b(const ViewState& state, const HeatMap& heat_a) {
   const bool comparable = !heat_b_.empty() && heat_a.values().size() == heat_b_.size();
   difference_range_ = comparable ? difference_range(heat_a.values(), heat_b_) : 0.0f;
   const std::span<const uint8_t> rgba = b_image(state, heat_a);
-  if (!rgba.empty()) draw_b(state, rgba);
+  if (!rgba.empty()) draw_b(state, rgba), b_redrawn_ = true;
   return !rgba.empty();
 }
 
@@ -199,9 +199,10 @@ void CompareView::draw_b(const ViewState& state, std::span<const uint8_t> rgba) 
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-void CompareView::draw(const ViewState& state, const HeatMap& heat_a) {
+bool CompareView::draw(const ViewState& state, const HeatMap& heat_a) {
+  b_redrawn_ = false;
   shown_ = session_ && refresh_b(state, heat_a);
-  if (!session_) return;
+  if (!session_) return false;
   const Viewport& view = state.viewport;
   const float from = mode_ == CompareMode::split ? divider_ : 0.0f;
   const float x = view.x + from * view.w;
@@ -216,6 +217,7 @@ void CompareView::draw(const ViewState& state, const HeatMap& heat_a) {
   if (mode_ == CompareMode::split || mode_ == CompareMode::a)
     label(ImVec2(view.x + 4, view.y + 4), "A: " + state.session.setup().accel);
   if (mode_ != CompareMode::a) label(ImVec2(x + 4, view.y + 4), b_label(state));
+  return b_redrawn_;
 }
 
 // What B's part is labelled: its structure, what it still waits for, or the difference.

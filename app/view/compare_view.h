@@ -42,7 +42,8 @@ class CompareView {
   // a heatmap, A's range becomes the shared scale.
   void update(ViewState& state, HeatMap& heat_a);
   // After the viewport: B's frame over its part of the viewport, the divider and the labels.
-  void draw(const ViewState& state, const HeatMap& heat_a);
+  // True when B's texture was drawn anew (the window must then be drawn again).
+  bool draw(const ViewState& state, const HeatMap& heat_a);
   // The controls panel's A/B section.
   void controls(ViewState& state, HeatMap& heat_a);
   // For --stats: null when no comparison runs.
@@ -95,6 +96,7 @@ class CompareView {
   gl::FrameRenderer renderer_;
   ViewportTarget target_;
   bool shown_ = false;         // B's part is drawn
+  bool b_redrawn_ = false;     // target_ was drawn anew this frame
   bool shares_range_ = false;  // A's heat range was set to the shared scale
 };
 

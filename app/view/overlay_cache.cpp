@@ -12,6 +12,7 @@ namespace gs::app {
 const std::vector<uint8_t>& HeatMap::rgba(const ProgressiveFrame& frame, HeatKind kind) {
   if (!stale_ && frame.generation == generation_ && frame.pass == pass_) return rgba_;
   stale_ = false;
+  ++images_made_;
   generation_ = frame.generation, pass_ = frame.pass;
   values_ = heat_values(frame.pixels, kind, frame.spp);
   max_ = values_.empty() ? 0.0f : *std::max_element(values_.begin(), values_.end());

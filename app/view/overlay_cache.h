@@ -31,9 +31,12 @@ class HeatMap {
   // The last image's figures per pixel and per sample, and their maximum.
   const std::vector<float>& values() const { return values_; }
   float max() const { return max_; }
+  // How many images rgba has computed: a new count is a new image.
+  uint64_t images_made() const { return images_made_; }
 
  private:
   bool stale_ = true;
+  uint64_t images_made_ = 0;
   uint64_t generation_ = 0;  // the frame the image is of
   int pass_ = 0;
   std::vector<float> values_;

@@ -132,6 +132,9 @@ struct ViewState {
   bool compare_pending = false;
   StatusLine status;
   BuildBarRecord build_bar;  // what the build progress bar has shown
+  // UI frames built, and those of them drawn: a frame that would look as the window already
+  // does is not drawn (Viewer::draw_frame).
+  uint64_t frames_built = 0, frames_drawn = 0;
 };
 
 }  // namespace gs::app

@@ -54,13 +54,17 @@ void Viewer::run() {
     run_due_steps();
     scene_.take_loaded(state_);
     take_frame();
-    const bool drawn = !window_.minimised();
-    if (drawn)
-      draw_frame();
+    const bool shown = !window_.minimised();
+    bool drawn = false;
+    if (shown)
+      drawn = draw_frame(), ++state_.frames_built, state_.frames_drawn += drawn;
     else
       window_.wait_events(kIdleWait);
     if (script_.frame_done(state_, scene_.pending().has_value())) {
-      if (!job_.screenshot.empty()) write_screenshot(window_, job_.screenshot);
+      if (!job_.screenshot.empty()) {
+        if (shown && !drawn) render();  // the back buffer holds nothing after a swap
+        write_screenshot(window_, job_.screenshot);
+      }
       break;
     }
     if (drawn) window_.swap();
@@ -116,30 +120,36 @@ void Viewer::take_frame() {
   if (state_.session.take_frame()) script_.check_frame(state_.session.frame());
 }
 
-void Viewer::draw_frame() {
+// A frame that would draw what the window already shows leaves it as it is: no drawing, no
+// swap (ImGui's draw data and the textures it draws are the same as last time).
+bool Viewer::draw_frame() {
   window_.begin_frame();
   // A script drives the viewer without a person: the pointer is ignored, so wherever the
   // display leaves it (Xvfb: its centre) it hovers no widget whose tooltip would cover the
   // viewport in a screenshot.
   if (script_.scripted()) ImGui::GetIO().MousePos = ImVec2(-FLT_MAX, -FLT_MAX);
   ImGui::NewFrame();
-  build_ui();
+  const bool textures_drawn = build_ui();
   ImGui::Render();
+  const bool ui_changed = drawn_ui_.changed(ImGui::GetDrawData());
+  if (!window_.take_refresh_request() && !textures_drawn && !ui_changed) return false;
   render();
+  return true;
 }
 
-void Viewer::build_ui() {
+bool Viewer::build_ui() {
   lay_out();
   script_.click(state_);
   camera_input_.update(state_);
   overlays_.refresh(state_);
   compare_.update(state_, overlays_.heat());
-  viewport_.draw(state_, overlays_);
-  compare_.draw(state_, overlays_.heat());
+  bool textures_drawn = viewport_.draw(state_, overlays_);
+  textures_drawn |= compare_.draw(state_, overlays_.heat());
   panels_.draw(state_, layout_);
   splitters_.draw(layout_);
   help_.draw();
   draw_build_progress(state_);
+  return textures_drawn;
 }
 
 // Places the viewport and panels for the window's current size and the splitters; a new

@@ -37,8 +37,9 @@ class Viewer {
   void run_due_steps();
   void run_step(const ScriptStep& step);
   void take_frame();
-  void draw_frame();
-  void build_ui();
+  // False when the frame would look as the window does: then nothing is drawn.
+  bool draw_frame();
+  bool build_ui();  // true when a texture the UI shows was drawn anew
   void lay_out();
   Camera initial_camera(int width, int height) const;
   void render();
@@ -46,6 +47,7 @@ class Viewer {
   const ViewJob& job_;
   gl::Window window_;  // first: the GL context outlives every GL object below
   gl::ImGuiRenderer imgui_renderer_;
+  gl::DrawDataRecord drawn_ui_;  // the draw data the window shows
   ViewportImage viewport_;
   ViewState state_;      // holds the renderer: its destructor stops the workers
   CompareView compare_;  // B's renderer and its GL objects

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <span>
 #include <vector>
 
@@ -22,8 +23,8 @@ constexpr int kMaxViewportSide = 4096;
 
 }  // namespace
 
-void ViewportTarget::resize(int width, int height) {
-  if (width == width_ && height == height_) return;
+bool ViewportTarget::resize(int width, int height) {
+  if (width == width_ && height == height_) return false;
   release();
   width_ = width, height_ = height;
   glGenTextures(1, &colour_);
@@ -39,6 +40,7 @@ void ViewportTarget::resize(int width, int height) {
   glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour_, 0);
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  return true;
 }
 
 void ViewportTarget::bind() const { glBindFramebuffer(GL_FRAMEBUFFER, fbo_); }
@@ -72,44 +74,89 @@ Viewport ViewportImage::place(const ImGuiIO& io, const Rect& area) const {
   return view;
 }
 
-void ViewportImage::draw(const ViewState& state, OverlayCache& overlays) {
+bool ViewportImage::draw(const ViewState& state, OverlayCache& overlays) {
   const ViewSetup& setup = state.session.setup();
-  const ProgressiveFrame& frame = state.session.frame();
-  target_.resize(setup.width, setup.height);
-  target_.bind();
-  const size_t pixels = size_t(frame.width) * size_t(frame.height);
-  if (frame.image.rgba.size() == pixels * 4 && pixels > 0) {
-    draw_frame(state, overlays);
-  } else {
-    glViewport(0, 0, setup.width, setup.height);
-    glClearColor(kBackground[0] / 255.0f, kBackground[1] / 255.0f, kBackground[2] / 255.0f, 1);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  const bool new_target = target_.resize(setup.width, setup.height);
+  ViewportContent now = content(state, overlays);
+  const bool redraw = new_target || !(now == drawn_);
+  if (redraw) {
+    target_.bind();
+    draw_content(state, overlays, now);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    drawn_ = std::move(now);
   }
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
   // GL textures count rows from the bottom: flip v.
   const Viewport& view = state.viewport;
   ImGui::GetBackgroundDrawList()->AddImage(target_.texture(), ImVec2(view.x, view.y),
                                            ImVec2(view.x + view.w, view.y + view.h), ImVec2(0, 1),
                                            ImVec2(1, 0));
+  return redraw;
 }
 
-void ViewportImage::draw_frame(const ViewState& state, OverlayCache& overlays) {
+namespace {
+
+// Byte for byte: equal bytes always draw the same lines (a difference only in how a number
+// is written, -0 or a NaN, draws them again, which is harmless).
+template <class T>
+bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() &&
+         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
+}  // namespace
+
+bool ViewportContent::operator==(const ViewportContent& other) const {
+  if (generation != other.generation || pass != other.pass || width != other.width ||
+      height != other.height || has_image != other.has_image || heat_image != other.heat_image ||
+      lines.size() != other.lines.size())
+    return false;
+  for (size_t i = 0; i < lines.size(); ++i)
+    if (lines[i].emphasised != other.lines[i].emphasised ||
+        !same_bytes(lines[i].vertices, other.lines[i].vertices) ||
+        !same_bytes(lines[i].fill, other.lines[i].fill))
+      return false;
+  return true;
+}
+
+ViewportContent ViewportImage::content(const ViewState& state, OverlayCache& overlays) const {
   const ViewSetup& setup = state.session.setup();
   const ProgressiveFrame& frame = state.session.frame();
-  std::vector<LineSet> lines = overlays.structure_lines();
+  ViewportContent content;
+  content.generation = frame.generation, content.pass = frame.pass;
+  content.width = setup.width, content.height = setup.height;
+  const size_t pixels = size_t(frame.width) * size_t(frame.height);
+  content.has_image = frame.image.rgba.size() == pixels * 4 && pixels > 0;
+  if (!content.has_image) return content;
+  if (state.overlays.heat != HeatKind::none && frame.pixels.size() == pixels) {
+    overlays.heat().rgba(frame, state.overlays.heat);  // made now if the last one is stale
+    content.heat_image = overlays.heat().images_made();
+  }
+  content.lines = overlays.structure_lines();
   if (state.overlays.walk && !state.picked.lines.vertices.empty())
-    lines.push_back(state.picked.lines);
-  const bool heat = state.overlays.heat != HeatKind::none &&
-                    frame.pixels.size() == size_t(frame.width) * size_t(frame.height);
+    content.lines.push_back(state.picked.lines);
+  return content;
+}
+
+void ViewportImage::draw_content(const ViewState& state, OverlayCache& overlays,
+                                 const ViewportContent& content) {
+  const ViewSetup& setup = state.session.setup();
+  if (!content.has_image) {
+    glViewport(0, 0, setup.width, setup.height);
+    glClearColor(kBackground[0] / 255.0f, kBackground[1] / 255.0f, kBackground[2] / 255.0f, 1);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    return;
+  }
+  const ProgressiveFrame& frame = state.session.frame();
   gl::FrameInput input;
   input.image_width = frame.width;
   input.image_height = frame.height;
-  input.rgba = heat ? std::span<const uint8_t>(overlays.heat().rgba(frame, state.overlays.heat))
-                    : std::span<const uint8_t>(frame.image.rgba);
+  input.rgba = content.heat_image != 0
+                   ? std::span<const uint8_t>(overlays.heat().rgba(frame, state.overlays.heat))
+                   : std::span<const uint8_t>(frame.image.rgba);
   input.distance = state.session.distances();
   input.camera = state.session.frame_camera();
   input.scene_box = setup.scene->bounds();
-  input.lines = lines;
+  input.lines = content.lines;
   frame_renderer_.draw(setup.width, setup.height, input);
 }
 
