@@ -168,6 +168,9 @@ class Grid1D final : public Accelerator {
   std::vector<SampleRay> scout_sample(std::span<const Ray> sample_rays, const SpawnRays& spawn,
                                       int threads);
   void report_sampling(uint64_t traced, const Grid1D& scout) const;
+  // A voxel another thread is cutting is searched through its id list up to this many
+  // triangles; a larger one is waited for (examine).
+  static constexpr uint32_t kSearchedWhileCut = 64;
   uint32_t examine(uint32_t voxel, Context& context) const;
   uint32_t settle(uint32_t voxel, Context& context) const;
   uint32_t make_leaf(uint32_t voxel) const;
