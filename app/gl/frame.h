@@ -55,7 +55,7 @@ class FrameRenderer {
 
  private:
   void draw_image(int viewport_width, int viewport_height, const FrameInput& input,
-                  const glm::mat4& projection, const ClipRange& range);
+                  const glm::mat4& projection, const ClipRange& range, bool depth);
   void draw_lines(const FrameInput& input, const glm::mat4& projection, const ClipRange& range,
                   glm::vec2 viewport_size);
   // Sends `vertices` through the lines program as `mode` primitives.

@@ -14,7 +14,7 @@ namespace gs::app {
 
 struct ViewState;
 
-constexpr double kOverlayInterval = 0.3;  // seconds between refreshes while the structure grows
+constexpr double kOverlayInterval = 1.0;  // seconds between refreshes while the structure grows
 
 // The heatmap shown in place of the render: one figure per pixel of the shown frame, through
 // turbo over a range that is 0..max (automatic) or set by hand.
@@ -47,7 +47,7 @@ class HeatMap {
 class OverlayCache {
  public:
   // Reading the structure pauses the workers, so it is read again only when the overlays are
-  // stale (a toggle, a pick, a new structure) or a few times a second while it grows. Also
+  // stale (a toggle, a pick, a new structure) or once a second while it grows. Also
   // sets the picked walk's cost. Cells and states are filtered as state.overlays says (depth
   // range, near the picked walk) and capped at kMaxOverlaySegments each.
   void refresh(ViewState& state);
