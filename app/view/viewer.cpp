@@ -56,10 +56,13 @@ void Viewer::run() {
     take_frame();
     const bool shown = !window_.minimised();
     bool drawn = false;
-    if (shown)
-      drawn = draw_frame(), ++state_.frames_built, state_.frames_drawn += drawn;
-    else
+    if (shown) {
+      drawn = draw_frame();
+      ++state_.frames_built;
+      if (drawn) ++state_.frames_drawn;
+    } else {
       window_.wait_events(kIdleWait);
+    }
     if (script_.frame_done(state_, scene_.pending().has_value())) {
       if (!job_.screenshot.empty()) {
         if (shown && !drawn) render();  // the back buffer holds nothing after a swap
