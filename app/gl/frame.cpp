@@ -151,13 +151,23 @@ void FrameRenderer::draw(int viewport_width, int viewport_height, const FrameInp
   glClearColor(kBackground[0] / 255.0f, kBackground[1] / 255.0f, kBackground[2] / 255.0f, 1.0f);
   glClearDepth(1.0);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  const LineBatches lines = batch_lines(input.lines);
   // Depth only matters to lines: without them the image is drawn with no depth test, so that
   // no fragment writes a depth (Mesa's CPU renderer took ~30 ms a 1274x794 frame with it).
-  const bool lines = std::any_of(input.lines.begin(), input.lines.end(), [](const LineSet& set) {
-    return set.vertices.size() >= 2 || set.fill.size() >= 3;
-  });
-  draw_image(viewport_width, viewport_height, input, projection, range, lines);
-  if (lines) draw_lines(input, projection, range, glm::vec2(viewport_width, viewport_height));
+  const bool any_lines = !lines.thin.empty() || !lines.fill.empty() || !lines.thick.empty();
+  draw_image(viewport_width, viewport_height, input, projection, range, any_lines);
+  if (any_lines)
+    draw_lines(lines, input, projection, range, glm::vec2(viewport_width, viewport_height));
+}
+
+FrameRenderer::LineBatches FrameRenderer::batch_lines(std::span<const LineSet> sets) {
+  LineBatches batches;
+  for (const LineSet& set : sets) {
+    std::vector<LineVertex>& into = set.emphasised ? batches.thick : batches.thin;
+    into.insert(into.end(), set.vertices.begin(), set.vertices.end() - set.vertices.size() % 2);
+    batches.fill.insert(batches.fill.end(), set.fill.begin(), set.fill.end() - set.fill.size() % 3);
+  }
+  return batches;
 }
 
 // The image as a full-viewport triangle; with `depth`, its fragments write the depth of their
@@ -198,14 +208,9 @@ void FrameRenderer::draw_image(int viewport_width, int viewport_height, const Fr
 // Thin sets first, fading with distance; then the emphasised ones (the walk) over them at
 // full strength: fills, then thick lines. All depth-tested against the image only (no depth
 // writes), so that lines never hide one another.
-void FrameRenderer::draw_lines(const FrameInput& input, const glm::mat4& projection,
-                               const ClipRange& range, glm::vec2 viewport_size) {
-  std::vector<LineVertex> thin, fill, thick;
-  for (const LineSet& set : input.lines) {
-    std::vector<LineVertex>& into = set.emphasised ? thick : thin;
-    into.insert(into.end(), set.vertices.begin(), set.vertices.end() - set.vertices.size() % 2);
-    fill.insert(fill.end(), set.fill.begin(), set.fill.end() - set.fill.size() % 3);
-  }
+void FrameRenderer::draw_lines(const LineBatches& lines, const FrameInput& input,
+                               const glm::mat4& projection, const ClipRange& range,
+                               glm::vec2 viewport_size) {
   const glm::mat4 view = view_matrix(input.camera);
   const Program& program = *lines_program_;
   glUseProgram(program.id());
@@ -223,12 +228,12 @@ void FrameRenderer::draw_lines(const FrameInput& input, const glm::mat4& project
   glDepthMask(GL_FALSE);
   glEnable(GL_BLEND);
   glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-  draw_vertices(thin, GL_LINES);
+  draw_vertices(lines.thin, GL_LINES);
   glUniform1f(program.uniform("far_alpha"), 1.0f);
-  draw_vertices(fill, GL_TRIANGLES);
+  draw_vertices(lines.fill, GL_TRIANGLES);
   // The thick quads are already in device coordinates (thick_quads applies the bias).
   const std::vector<LineVertex> quads =
-      thick_quads(thick, view, projection, viewport_size, kThickLineWidth);
+      thick_quads(lines.thick, view, projection, viewport_size, kThickLineWidth);
   set_transform(glm::mat4(1.0f), glm::mat4(1.0f), 0.0f);
   draw_vertices(quads, GL_TRIANGLES);
   glDepthMask(GL_TRUE);

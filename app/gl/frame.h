@@ -56,8 +56,13 @@ class FrameRenderer {
  private:
   void draw_image(int viewport_width, int viewport_height, const FrameInput& input,
                   const glm::mat4& projection, const ClipRange& range, bool depth);
-  void draw_lines(const FrameInput& input, const glm::mat4& projection, const ClipRange& range,
-                  glm::vec2 viewport_size);
+  // The sets' vertices gathered by how they are drawn (whole segments and triangles only).
+  struct LineBatches {
+    std::vector<LineVertex> thin, fill, thick;
+  };
+  static LineBatches batch_lines(std::span<const LineSet> sets);
+  void draw_lines(const LineBatches& lines, const FrameInput& input, const glm::mat4& projection,
+                  const ClipRange& range, glm::vec2 viewport_size);
   // Sends `vertices` through the lines program as `mode` primitives.
   void draw_vertices(std::span<const LineVertex> vertices, unsigned mode);
 

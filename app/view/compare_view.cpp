@@ -159,7 +159,7 @@ bool CompareView::b_matches_a(const ViewState& state) const {
          to_string(state.session.frame_camera()) == to_string(session_->frame_camera());
 }
 
-bool CompareView::refresh_b(const ViewState& state, const HeatMap& heat_a) {
+bool CompareView::refresh_b(const ViewState& state, const HeatMap& heat_a, bool& redrawn) {
   const ProgressiveFrame &a = state.session.frame(), &b = session_->frame();
   const DrawnInputs inputs{a.generation,        b.generation, a.pass,   b.pass,
                            state.overlays.heat, mode_,        heat_a.hi};
@@ -168,8 +168,9 @@ bool CompareView::refresh_b(const ViewState& state, const HeatMap& heat_a) {
   const bool comparable = !heat_b_.empty() && heat_a.values().size() == heat_b_.size();
   difference_range_ = comparable ? difference_range(heat_a.values(), heat_b_) : 0.0f;
   const std::span<const uint8_t> rgba = b_image(state, heat_a);
-  if (!rgba.empty()) draw_b(state, rgba), b_redrawn_ = true;
-  return !rgba.empty();
+  redrawn = !rgba.empty();
+  if (redrawn) draw_b(state, rgba);
+  return redrawn;
 }
 
 std::span<const uint8_t> CompareView::b_image(const ViewState& state, const HeatMap& heat_a) {
@@ -200,8 +201,8 @@ void CompareView::draw_b(const ViewState& state, std::span<const uint8_t> rgba) 
 }
 
 bool CompareView::draw(const ViewState& state, const HeatMap& heat_a) {
-  b_redrawn_ = false;
-  shown_ = session_ && refresh_b(state, heat_a);
+  bool redrawn = false;
+  shown_ = session_ && refresh_b(state, heat_a, redrawn);
   if (!session_) return false;
   const Viewport& view = state.viewport;
   const float from = mode_ == CompareMode::split ? divider_ : 0.0f;
@@ -217,7 +218,7 @@ bool CompareView::draw(const ViewState& state, const HeatMap& heat_a) {
   if (mode_ == CompareMode::split || mode_ == CompareMode::a)
     label(ImVec2(view.x + 4, view.y + 4), "A: " + state.session.setup().accel);
   if (mode_ != CompareMode::a) label(ImVec2(x + 4, view.y + 4), b_label(state));
-  return b_redrawn_;
+  return redrawn;
 }
 
 // What B's part is labelled: its structure, what it still waits for, or the difference.

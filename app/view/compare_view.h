@@ -54,8 +54,9 @@ class CompareView {
   void start(ViewState& state);
   // B's frame is of the view A's frame shows: same size and camera.
   bool b_matches_a(const ViewState& state) const;
-  // Draws B's part into target_ when what it shows changed; false when there is none.
-  bool refresh_b(const ViewState& state, const HeatMap& heat_a);
+  // Draws B's part into target_ when what it shows changed (`redrawn`); false when there is
+  // none.
+  bool refresh_b(const ViewState& state, const HeatMap& heat_a, bool& redrawn);
   // The RGBA image B's part shows for the mode, or empty when there is none to show.
   std::span<const uint8_t> b_image(const ViewState& state, const HeatMap& heat_a);
   void draw_b(const ViewState& state, std::span<const uint8_t> rgba);
@@ -96,7 +97,6 @@ class CompareView {
   gl::FrameRenderer renderer_;
   ViewportTarget target_;
   bool shown_ = false;         // B's part is drawn
-  bool b_redrawn_ = false;     // target_ was drawn anew this frame
   bool shares_range_ = false;  // A's heat range was set to the shared scale
 };
 
