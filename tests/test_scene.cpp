@@ -5,6 +5,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -794,6 +795,68 @@ TEST(BadInput, MalformedPly) {
   expect_ply_error("nox.ply",
                    "ply\nformat ascii 1.0\nelement vertex 1\nproperty float y\nend_header\n1\n",
                    "no scalar 'x'");
+}
+
+// The loaders' integer parsing answers what std::from_chars answers, value, error and end,
+// on both sides of its fast path (18 digits) and on every kind of malformed token.
+TEST(Parse, Int64AgreesWithFromChars) {
+  std::vector<std::string> tokens = {"",
+                                     "-",
+                                     "0",
+                                     "-0",
+                                     "7",
+                                     "007",
+                                     "+5",
+                                     " 5",
+                                     "5 ",
+                                     "12a",
+                                     "1.5",
+                                     "--1",
+                                     "999999999999999999",
+                                     "-999999999999999999",
+                                     "1000000000000000000",
+                                     "9223372036854775807",
+                                     "9223372036854775808",
+                                     "-9223372036854775808",
+                                     "-9223372036854775809",
+                                     "00000000000000000000000000042",
+                                     "99999999999999999999"};
+  uint64_t state = 12345;
+  for (int i = 0; i < 2000; ++i) {  // random digit strings, some with a sign or a stray letter
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    std::string token = (state >> 60) % 3 == 0 ? "-" : "";
+    for (int n = int(state >> 32) % 21; n >= 0; --n) {
+      state = state * 6364136223846793005ull + 1442695040888963407ull;
+      token += (state >> 59) == 0 ? 'x' : char('0' + (state >> 33) % 10);
+    }
+    tokens.push_back(token);
+  }
+  for (const std::string& token : tokens) {
+    const char* first = token.data();
+    const char* last = first + token.size();
+    int64_t fast = -77, reference = -77;
+    const std::from_chars_result got = detail::parse_int64(first, last, fast);
+    const std::from_chars_result want = std::from_chars(first, last, reference);
+    EXPECT_EQ(got.ec, want.ec) << token;
+    EXPECT_EQ(got.ptr, want.ptr) << token;
+    EXPECT_EQ(fast, reference) << token;
+  }
+}
+
+// An ASCII face list read by the one-pass digit path and by the general one gives the same
+// faces, and what the one-pass path declines still gets the general path's checks.
+TEST(Ply, AsciiIndicesOfEveryLengthAndSeparator) {
+  const Scene scene = load_scene(
+      write_temp_file("long_indices.ply", kTriangleHeader + "0 0 0\n1 0 0\n0 1 0\n3\t0 1 2\n"
+                                                            "3 0000000000000000000002 1\v0\r\n"));
+  EXPECT_EQ(scene.triangles, (std::vector<uvec3>{{0, 1, 2}, {2, 1, 0}}));
+  const std::string body = "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  expect_ply_error("letter.ply", kTriangleHeader + body + "3 0 1x 2\n",
+                   "expected an integer, found '1x'");
+  expect_ply_error("plus.ply", kTriangleHeader + body + "3 0 +1 2\n",
+                   "expected an integer, found '+1'");
+  expect_ply_error("huge.ply", kTriangleHeader + body + "3 0 1 99999999999999999999\n",
+                   "expected an integer, found '99999999999999999999'");
 }
 
 TEST(BadInput, TruncatedBinaryPly) {

@@ -121,7 +121,7 @@ class ObjScanner {
     const size_t slash = token.find('/');
     const std::string_view digits = token.substr(0, slash);
     int64_t index = 0;
-    const auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), index);
+    const auto [ptr, ec] = detail::parse_int64(digits.data(), digits.data() + digits.size(), index);
     // tinyobjloader keeps indices in int: anything beyond is an overflow for both of us.
     if (ec == std::errc::result_out_of_range || index > INT32_MAX || index < INT32_MIN) {
       fail("vertex index '" + printable(digits) + "' overflows");

@@ -251,9 +251,11 @@ class AsciiSource {
 
   // Only for integer types: the header admits no other type for list counts and indices.
   bool read_int(Type t, int64_t& out) {
-    if (!next_token()) return false;
-    const auto [ptr, ec] = std::from_chars(token_, token_end_, out);
-    if (ec != std::errc() || ptr != token_end_) bad_token("an integer");
+    if (!next_digits(out)) {
+      if (!next_token()) return false;
+      const auto [ptr, ec] = detail::parse_int64(token_, token_end_, out);
+      if (ec != std::errc() || ptr != token_end_) bad_token("an integer");
+    }
     int64_t lo = 0, hi = 0;
     integer_range(t, lo, hi);
     if (out < lo || out > hi) bad_token("a value that fits its type");
@@ -272,9 +274,9 @@ class AsciiSource {
   }
 
  private:
-  static bool is_space(char c) {
-    return c == ' ' || c == '\n' || c == '\r' || c == '\t' || c == '\f' || c == '\v';
-  }
+  // ' ' or one of '\t' '\n' '\v' '\f' '\r', which are consecutive: two compares per byte,
+  // not six.
+  static bool is_space(char c) { return c == ' ' || static_cast<unsigned>(c - '\t') <= 4u; }
 
   bool next_token() {
     while (p_ != end_ && is_space(*p_)) ++p_;
@@ -282,6 +284,21 @@ class AsciiSource {
     token_ = p_;
     while (p_ != end_ && !is_space(*p_)) ++p_;
     token_end_ = p_;
+    return true;
+  }
+
+  // The next token read and parsed in one pass when it is what face lists hold, up to 18
+  // digits and nothing else (no sign, no overflow possible); false, with nothing consumed,
+  // for anything else, which the general path then reads.
+  bool next_digits(int64_t& out) {
+    const char* p = p_;
+    while (p != end_ && is_space(*p)) ++p;
+    const char* first = p;
+    int64_t value = 0;
+    for (; p != end_ && static_cast<unsigned>(*p - '0') <= 9u; ++p) value = value * 10 + (*p - '0');
+    if (p == first || p - first > 18 || (p != end_ && !is_space(*p))) return false;
+    token_ = first, token_end_ = p_ = p;
+    out = value;
     return true;
   }
 

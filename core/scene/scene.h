@@ -2,6 +2,7 @@
 // n-gon split into n-2 consecutive ids). Loaders and built-in generators produce it; every
 // accelerator consumes it.
 #pragma once
+#include <charconv>
 #include <cstdint>
 #include <glm/vec3.hpp>
 #include <limits>
@@ -100,6 +101,23 @@ std::string read_scene_file(const std::string& path, uint64_t limit = kMaxSceneD
 // Accepts a leading '+', "nan" and "inf"; an out-of-range magnitude becomes +-inf or 0
 // as strtod would give. Returns false when the token is not a number.
 bool parse_float(const char* first, const char* last, float& out);
+// std::from_chars(first, last, out) for a base-10 int64_t, the same answer for every input,
+// with a fast path for what files hold: an optional '-' and at most 18 digits, which cannot
+// overflow. Loading the 871k-triangle dragon spent a third of its face parsing in
+// from_chars.
+inline std::from_chars_result parse_int64(const char* first, const char* last, int64_t& out) {
+  const char* digits = first + (first != last && *first == '-');
+  if (digits != last && last - digits <= 18) {
+    int64_t value = 0;
+    const char* p = digits;
+    for (; p != last && static_cast<unsigned>(*p - '0') <= 9u; ++p) value = value * 10 + (*p - '0');
+    if (p == last) {
+      out = digits == first ? value : -value;
+      return {last, std::errc()};
+    }
+  }
+  return std::from_chars(first, last, out);
+}
 }  // namespace detail
 
 }  // namespace gs
