@@ -40,24 +40,28 @@ double surface_area(const double extent[3]) {
 // either way.
 struct CellLocator {
   double origin, scale, first_cell, last_local;
-  int64_t operator()(double x) const {
-    return int64_t(std::clamp((x - origin) * scale - first_cell, 0.0, last_local));
+  int32_t operator()(double x) const {
+    return int32_t(std::clamp((x - origin) * scale - first_cell, 0.0, last_local));
   }
 };
 
-// Spreads items over g cells given each item's first and last cell: offsets (g + 1) and a
-// flat list, items in their original order within each cell.
-void fill_cells(const std::vector<std::pair<int64_t, int64_t>>& ranges,
-                const std::vector<uint32_t>& items, int g, std::vector<uint32_t>& offsets,
-                std::vector<uint32_t>& flat) {
+// The cells an item lies in: first..last of a cut's g (< 2^16) cells.
+struct CellRange {
+  int32_t first, last;
+};
+
+// Spreads items over g cells given each item's cells: offsets (g + 1) and a flat list,
+// items in their original order within each cell.
+void fill_cells(std::span<const CellRange> ranges, std::span<const uint32_t> items, int g,
+                std::vector<uint32_t>& offsets, std::vector<uint32_t>& flat) {
   offsets.assign(size_t(g) + 1, 0);
-  for (const auto& [c0, c1] : ranges)
-    for (int64_t c = c0; c <= c1; ++c) ++offsets[size_t(c) + 1];
+  for (const CellRange& range : ranges)
+    for (int32_t c = range.first; c <= range.last; ++c) ++offsets[size_t(c) + 1];
   for (int c = 0; c < g; ++c) offsets[c + 1] += offsets[c];
   flat.resize(offsets[g]);
   std::vector<uint32_t> cursor(offsets.begin(), offsets.end() - 1);
   for (size_t i = 0; i < items.size(); ++i)
-    for (int64_t c = ranges[i].first; c <= ranges[i].second; ++c) flat[cursor[c]++] = items[i];
+    for (int32_t c = ranges[i].first; c <= ranges[i].last; ++c) flat[cursor[c]++] = items[i];
 }
 
 }  // namespace
@@ -348,24 +352,32 @@ uint32_t Grid1D::make_leaf(uint32_t id) const {
   return child_ref::make(child_ref::kLeaf, handle);
 }
 
+// The sample's segments that cross the voxel lo..hi, clipped to it: its rays of the run
+// (§6.5) and, for a cut, the cells each one crosses. Computed once per voxel examined.
+std::vector<Grid1D::Crossing> Grid1D::crossings(uint32_t id, const double lo[3],
+                                                const double hi[3]) const {
+  const Region& region = regions_[id];
+  std::vector<Crossing> crossing;
+  if (!sampled_) return crossing;
+  crossing.reserve(region.sample_count);
+  for (uint32_t i = 0; i < region.sample_count; ++i) {
+    const uint32_t j = sample_indices_[region.sample_begin + i];
+    const SampleRay& s = sample_[j];
+    double t0 = s.t0, t1 = s.t1;
+    if (clip_segment(s.origin, s.dir, lo, hi, t0, t1)) crossing.push_back({j, t0, t1});
+  }
+  return crossing;
+}
+
 // Rays of the run crossing the voxel: the sample's segments that cross it, scaled to the
 // run; a voxel no segment crosses gets the area estimate from its parent (§6.5).
-double Grid1D::estimated_rays(uint32_t id) const {
-  const Region& region = regions_[id];
-  if (!sampled_) return region.area_rays;
-  double lo[3], hi[3];
-  voxel_box(id, lo, hi);
-  uint32_t crossing = 0;
-  for (uint32_t i = 0; i < region.sample_count; ++i) {
-    const SampleRay& s = sample_[sample_indices_[region.sample_begin + i]];
-    double t0 = s.t0, t1 = s.t1;
-    crossing += clip_segment(s.origin, s.dir, lo, hi, t0, t1);
-  }
-  return crossing > 0 ? crossing * rays_per_sample_ : region.area_rays;
+double Grid1D::estimated_rays(uint32_t id, size_t crossing_count) const {
+  return crossing_count > 0 ? double(crossing_count) * rays_per_sample_ : regions_[id].area_rays;
 }
 
 // N, extents, mean triangle sizes (each clipped to the voxel, §6.3) and estimated rays.
-VoxelFigures Grid1D::figures_of(uint32_t id, const double lo[3], const double hi[3]) const {
+VoxelFigures Grid1D::figures_of(uint32_t id, const double lo[3], const double hi[3],
+                                size_t crossing_count) const {
   const Voxel& voxel = voxels_[id];
   VoxelFigures figures;
   figures.triangles = voxel.tri_count;
@@ -377,7 +389,7 @@ VoxelFigures Grid1D::figures_of(uint32_t id, const double lo[3], const double hi
   }
   if (voxel.tri_count > 0)
     for (double& size : figures.mean_size) size /= voxel.tri_count;
-  figures.rays = estimated_rays(id);
+  figures.rays = estimated_rays(id, crossing_count);
   return figures;
 }
 
@@ -414,7 +426,8 @@ Grid1D::Cut Grid1D::plan_cut(uint32_t id) const {
     return cut;
   double lo[3], hi[3];
   voxel_box(id, lo, hi);
-  const VoxelFigures figures = figures_of(id, lo, hi);
+  const std::vector<Crossing> crossing = crossings(id, lo, hi);
+  const VoxelFigures figures = figures_of(id, lo, hi, crossing.size());
   cut.rays = figures.rays;
   const std::array<int, 3> limits = granularity_limits(id, figures, lo, hi);
   std::vector<AxisPlan> plans;
@@ -433,7 +446,7 @@ Grid1D::Cut Grid1D::plan_cut(uint32_t id) const {
                      [&](const AxisPlan& x, const AxisPlan& y) { return whole(x) < whole(y); });
   }
   for (const AxisPlan& plan : plans)
-    if (sort_into_cells(id, plan.axis, plan.granularity, lo, hi, cut)) return cut;
+    if (sort_into_cells(id, plan.axis, plan.granularity, lo, hi, crossing, cut)) return cut;
   return Cut{};
 }
 
@@ -446,7 +459,7 @@ VoxelCostReport Grid1D::cost_report(uint32_t id) const {
     report.axis = voxel.axis, report.granularity = voxel.granularity;
   double lo[3], hi[3];
   voxel_box(id, lo, hi);
-  report.figures = figures_of(id, lo, hi);
+  report.figures = figures_of(id, lo, hi, crossings(id, lo, hi).size());
   report.subdivision_cost = params_.subcost * report.figures.triangles;
   const std::array<int, 3> limits = granularity_limits(id, report.figures, lo, hi);
   for (int a = 0; a < 3; ++a) {
@@ -459,7 +472,7 @@ VoxelCostReport Grid1D::cost_report(uint32_t id) const {
 }
 
 bool Grid1D::sort_into_cells(uint32_t id, int axis, int g, const double lo[3], const double hi[3],
-                             Cut& cut) const {
+                             std::span<const Crossing> crossing, Cut& cut) const {
   const Voxel& voxel = voxels_[id];
   const Region& region = regions_[id];
   const StateInfo& grid = states_[axis];  // the scene box on this axis
@@ -467,34 +480,33 @@ bool Grid1D::sort_into_cells(uint32_t id, int axis, int g, const double lo[3], c
   const CellLocator locate{grid.origin, double(granularity) / grid.extent,
                            double(region.cell[axis] * uint64_t(g)), double(g - 1)};
 
-  std::vector<uint32_t> items(&tri_indices_[voxel.tri_begin],
-                              &tri_indices_[voxel.tri_begin] + voxel.tri_count);
-  std::vector<std::pair<int64_t, int64_t>> ranges(items.size());
+  const std::span<const uint32_t> tris(&tri_indices_[voxel.tri_begin], voxel.tri_count);
+  std::vector<CellRange> ranges;
+  ranges.reserve(std::max(tris.size(), crossing.size()));
   bool separates = false;
-  for (size_t i = 0; i < items.size(); ++i) {
-    const double* box = input_.box(items[i]);
-    ranges[i] = {locate(std::max(box[axis], lo[axis])), locate(std::min(box[axis + 3], hi[axis]))};
-    separates |= ranges[i].first > 0 || ranges[i].second < g - 1;
+  for (const uint32_t tri : tris) {
+    const double* box = input_.box(tri);
+    const CellRange range{locate(std::max(box[axis], lo[axis])),
+                          locate(std::min(box[axis + 3], hi[axis]))};
+    separates |= range.first > 0 || range.last < g - 1;
+    ranges.push_back(range);
   }
   if (!separates) return false;
   cut.axis = axis;
   cut.granularity = g;
-  fill_cells(ranges, items, g, cut.tri_offsets, cut.tris);
+  fill_cells(ranges, tris, g, cut.tri_offsets, cut.tris);
 
-  items.assign(&sample_indices_[region.sample_begin],
-               &sample_indices_[region.sample_begin] + region.sample_count);
   ranges.clear();
-  std::vector<uint32_t> crossing;
-  for (const uint32_t j : items) {
-    const SampleRay& s = sample_[j];
-    double t0 = s.t0, t1 = s.t1;
-    if (!clip_segment(s.origin, s.dir, lo, hi, t0, t1)) continue;
-    const int64_t c0 = locate(s.origin[axis] + t0 * s.dir[axis]);
-    const int64_t c1 = locate(s.origin[axis] + t1 * s.dir[axis]);
-    ranges.emplace_back(std::min(c0, c1), std::max(c0, c1));
-    crossing.push_back(j);
+  std::vector<uint32_t> rays;
+  rays.reserve(crossing.size());
+  for (const Crossing& c : crossing) {
+    const SampleRay& s = sample_[c.ray];
+    const int32_t c0 = locate(s.origin[axis] + c.t0 * s.dir[axis]);
+    const int32_t c1 = locate(s.origin[axis] + c.t1 * s.dir[axis]);
+    ranges.push_back({std::min(c0, c1), std::max(c0, c1)});
+    rays.push_back(c.ray);
   }
-  fill_cells(ranges, crossing, g, cut.sample_offsets, cut.samples);
+  fill_cells(ranges, rays, g, cut.sample_offsets, cut.samples);
   return true;
 }
 

@@ -16,6 +16,7 @@
 #include <array>
 #include <atomic>
 #include <mutex>
+#include <span>
 #include <unordered_map>
 #include <vector>
 
@@ -175,16 +176,22 @@ class Grid1D final : public Accelerator {
   uint32_t settle(uint32_t voxel, Context& context) const;
   uint32_t make_leaf(uint32_t voxel) const;
   Cut plan_cut(uint32_t voxel) const;
-  VoxelFigures figures_of(uint32_t voxel, const double lo[3], const double hi[3]) const;
+  struct Crossing {  // a sample segment crossing a voxel, clipped to it
+    uint32_t ray;    // sample_ index
+    double t0, t1;
+  };
+  std::vector<Crossing> crossings(uint32_t voxel, const double lo[3], const double hi[3]) const;
+  VoxelFigures figures_of(uint32_t voxel, const double lo[3], const double hi[3],
+                          size_t crossing_count) const;
   std::array<int, 3> granularity_limits(uint32_t voxel, const VoxelFigures& figures,
                                         const double lo[3], const double hi[3]) const;
   bool sort_into_cells(uint32_t voxel, int axis, int g, const double lo[3], const double hi[3],
-                       Cut& cut) const;
+                       std::span<const Crossing> crossing, Cut& cut) const;
   uint32_t commit_cut(uint32_t voxel, const Cut& cut) const;
   static uint16_t sole_cell(const Cut& cut);
   uint32_t walk_above(uint32_t node, int axis) const;
   void link_children(uint32_t voxel, const Cut& cut, uint32_t first_child, uint32_t node) const;
-  double estimated_rays(uint32_t voxel) const;
+  double estimated_rays(uint32_t voxel, size_t crossing_count) const;
   uint32_t state_for(uint32_t axis, uint64_t granularity) const;
   bool reserve_bytes(uint64_t bytes) const;
   // `first` (an append's result) unless the append failed: then a UsageError naming `what`.
