@@ -69,14 +69,14 @@ std::vector<ProgressiveFrame> collect(ProgressiveRenderer& renderer, uint64_t ge
   int have_pass = 0;
   const auto deadline = std::chrono::steady_clock::now() + kTimeout;
   while (std::chrono::steady_clock::now() < deadline) {
-    std::optional<ProgressiveFrame> frame = renderer.take_frame(have_generation, have_pass);
+    std::shared_ptr<const ProgressiveFrame> frame = renderer.take_frame(have_generation, have_pass);
     if (!frame) {
       std::this_thread::yield();
       continue;
     }
     have_generation = frame->generation;
     have_pass = frame->pass;
-    frames.push_back(std::move(*frame));
+    frames.push_back(*frame);
     if (frames.back().generation == generation && done(frames.back())) return frames;
   }
   ADD_FAILURE() << "no finished frame of generation " << generation << " in time";
@@ -121,14 +121,14 @@ void expect_same_image(const ProgressiveFrame& frame, const RenderOutcome& expec
 
 TEST(Progressive, PassesComeCoarseThenFullThenAccumulating) {
   ProgressiveRenderer renderer;
-  EXPECT_FALSE(renderer.take_frame(0, 0).has_value());
+  EXPECT_EQ(renderer.take_frame(0, 0), nullptr);
   renderer.restart(setup_for(first_camera(), 4));
   const std::vector<ProgressiveFrame> frames =
       collect(renderer, 1, [](const ProgressiveFrame& f) { return f.pass >= 5; });
   ASSERT_FALSE(frames.empty());
   expect_in_order(frames, 1);
   EXPECT_EQ(frames.back().spp, 4);
-  EXPECT_FALSE(renderer.take_frame(1, 5).has_value());  // nothing newer than the last pass
+  EXPECT_EQ(renderer.take_frame(1, 5), nullptr);  // nothing newer than the last pass
   const auto deadline = std::chrono::steady_clock::now() + kTimeout;
   while (renderer.busy() && std::chrono::steady_clock::now() < deadline)
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
@@ -350,7 +350,7 @@ TEST(Progressive, ZeroSizeRendersNothingAndRestoringRendersAgain) {
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   EXPECT_FALSE(renderer.busy());
   EXPECT_TRUE(renderer.structure_ready());
-  EXPECT_FALSE(renderer.take_frame(2, 0).has_value());
+  EXPECT_EQ(renderer.take_frame(2, 0), nullptr);
   EXPECT_FALSE(renderer.record_walk(0, 0).has_value());
   // Restored: the same structure, the same image.
   renderer.restart(setup_for(first_camera(), 1));

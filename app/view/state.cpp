@@ -67,18 +67,20 @@ void Session::restart() {
 }
 
 bool Session::take_frame() {
-  std::optional<ProgressiveFrame> frame = renderer_.take_frame(frame_.generation, frame_.pass);
-  if (!frame) return false;
-  frame_ = std::move(*frame);
-  const auto camera = cameras_.find(frame_.generation);
+  std::shared_ptr<const ProgressiveFrame> taken =
+      renderer_.take_frame(frame_->generation, frame_->pass);
+  if (!taken) return false;
+  frame_ = std::move(taken);
+  const ProgressiveFrame& frame = *frame_;
+  const auto camera = cameras_.find(frame.generation);
   frame_camera_ = camera != cameras_.end() ? camera->second : setup_.camera;
-  if (frame_.generation == restarts_ && frame_.pass >= 2 && !full_pass_current_) {
+  if (frame.generation == restarts_ && frame.pass >= 2 && !full_pass_current_) {
     full_pass_current_ = true;
-    full_pass_seconds_.push_back(frame_.seconds);
+    full_pass_seconds_.push_back(frame.seconds);
   }
   distances_.clear();
-  if (frame_.pixels.size() == size_t(frame_.width) * size_t(frame_.height))
-    for (const PixelRecord& p : frame_.pixels) distances_.push_back(p.depth);
+  if (frame.pixels.size() == size_t(frame.width) * size_t(frame.height))
+    for (const PixelRecord& p : frame.pixels) distances_.push_back(p.depth);
   return true;
 }
 

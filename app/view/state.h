@@ -44,7 +44,7 @@ class Session {
 
   // Takes the renderer's newest frame if it is newer than the one shown; true then.
   bool take_frame();
-  const ProgressiveFrame& frame() const { return frame_; }
+  const ProgressiveFrame& frame() const { return *frame_; }
   const Camera& frame_camera() const { return frame_camera_; }
   // The frame's per-pixel distances (empty without per-pixel records), for depth-testing lines.
   const std::vector<float>& distances() const { return distances_; }
@@ -54,7 +54,7 @@ class Session {
   // pass (ProgressiveFrame::seconds), in order. The first includes the structure's build.
   const std::vector<double>& full_pass_seconds() const { return full_pass_seconds_; }
   // The frame shown is of the current view and has a pass.
-  bool frame_current() const { return frame_.generation == restarts_ && frame_.pass > 0; }
+  bool frame_current() const { return frame_->generation == restarts_ && frame_->pass > 0; }
   // False until the first restart (a window minimised since its first frame never starts).
   bool started() const { return restarts_ > 0; }
   // Counts camera changes: a text field showing the camera refreshes when it moves.
@@ -75,7 +75,7 @@ class Session {
   uint64_t restarts_ = 0;
   std::map<uint64_t, Camera> cameras_;  // the camera of each recent generation, for its frames
   uint64_t camera_changes_ = 0;
-  ProgressiveFrame frame_;
+  std::shared_ptr<const ProgressiveFrame> frame_ = std::make_shared<const ProgressiveFrame>();
   Camera frame_camera_;
   std::vector<float> distances_;
   bool full_pass_current_ = false;

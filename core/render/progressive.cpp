@@ -382,8 +382,8 @@ void ProgressiveRenderer::restart(const ViewSetup& setup) {
   s.structure_cv.notify_all();
 }
 
-std::optional<ProgressiveFrame> ProgressiveRenderer::take_frame(uint64_t have_generation,
-                                                                int have_pass) {
+std::shared_ptr<const ProgressiveFrame> ProgressiveRenderer::take_frame(uint64_t have_generation,
+                                                                        int have_pass) {
   std::shared_ptr<const ProgressiveFrame> frame;
   {
     std::lock_guard lock(state_->mutex);
@@ -391,8 +391,8 @@ std::optional<ProgressiveFrame> ProgressiveRenderer::take_frame(uint64_t have_ge
   }
   if (!frame || frame->generation < have_generation ||
       (frame->generation == have_generation && frame->pass <= have_pass))
-    return std::nullopt;
-  return *frame;  // copied outside the lock: a published frame never changes
+    return nullptr;
+  return frame;
 }
 
 std::optional<Walk> ProgressiveRenderer::record_walk(int x, int y) {

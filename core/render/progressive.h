@@ -83,8 +83,10 @@ class ProgressiveRenderer {
   // Starts over with a new setup (a new structure is built when the scene, structure or
   // parameters changed; a camera or size change keeps the structure). Returns at once.
   void restart(const ViewSetup& setup);
-  // The newest finished pass, if one newer than `have_generation`/`have_pass` exists.
-  std::optional<ProgressiveFrame> take_frame(uint64_t have_generation, int have_pass);
+  // The newest finished pass, if one newer than `have_generation`/`have_pass` exists (else
+  // null). Shared, not copied: a published frame never changes, and a copy of its image and
+  // records (20 MB at 1274x794) cost the viewer fresh pages on every pass.
+  std::shared_ptr<const ProgressiveFrame> take_frame(uint64_t have_generation, int have_pass);
   // Records the walk of pixel (x, y)'s ray (pixel centre, no jitter) through the current
   // structure, by the same traversal that renders. Waits for the structure to exist;
   // nothing when the structure has no cells (brute) or there is no scene.
