@@ -294,11 +294,12 @@ class AsciiSource {
     const char* p = p_;
     while (p != end_ && is_space(*p)) ++p;
     const char* first = p;
-    int64_t value = 0;
-    for (; p != end_ && static_cast<unsigned>(*p - '0') <= 9u; ++p) value = value * 10 + (*p - '0');
+    uint64_t value = 0;  // unsigned: a longer run of digits wraps (and is declined) unharmed
+    for (; p != end_ && static_cast<unsigned>(*p - '0') <= 9u; ++p)
+      value = value * 10 + unsigned(*p - '0');
     if (p == first || p - first > 18 || (p != end_ && !is_space(*p))) return false;
     token_ = first, token_end_ = p_ = p;
-    out = value;
+    out = int64_t(value);
     return true;
   }
 
