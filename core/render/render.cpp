@@ -427,6 +427,9 @@ void write_png(const std::string& path, int width, int height, const std::vector
   // frame's tracing, and still smaller files than stb wrote. Encoded into memory in one pass
   // (the buffer is the format's bound) and written by write_file, which checks the write
   // and the close.
+  // Checked before the buffer is sized from them.
+  if (width <= 0 || height <= 0 || rgba.size() != size_t(width) * size_t(height) * 4)
+    fail_input(path, "cannot encode PNG: a bad image size");
   png_image image{};
   image.version = PNG_IMAGE_VERSION;
   image.width = png_uint_32(width);
@@ -436,9 +439,8 @@ void write_png(const std::string& path, int width, int height, const std::vector
   png_alloc_size_t size = PNG_IMAGE_PNG_SIZE_MAX(image);
   std::vector<char> png(size);
   const bool encoded =
-      width > 0 && height > 0 && rgba.size() == size_t(width) * height * 4 &&
       png_image_write_to_memory(&image, png.data(), &size, 0, rgba.data(), width * 4, nullptr);
-  const std::string problem = image.message[0] ? image.message : "a bad image size";
+  const std::string problem = image.message;
   png_image_free(&image);
   if (!encoded) fail_input(path, "cannot encode PNG: " + problem);
   png.resize(size);

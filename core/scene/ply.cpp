@@ -289,7 +289,8 @@ class AsciiSource {
 
   // The next token read and parsed in one pass when it is what face lists hold, up to 18
   // digits and nothing else (no sign, no overflow possible); false, with nothing consumed,
-  // for anything else, which the general path then reads.
+  // for anything else, which the general path then reads. Its own digit loop, not a scan
+  // followed by detail::parse_int64: that took 15% more instructions to load the dragon.
   bool next_digits(int64_t& out) {
     const char* p = p_;
     while (p != end_ && is_space(*p)) ++p;
