@@ -183,6 +183,32 @@ TEST(Progressive, FullAndAccumulatedPassesEqualRenderImage) {
   EXPECT_GT(steps, 2 * steps_one);
 }
 
+// Later passes write into the storage of frames nobody holds any more, never into a frame
+// still held: the one kept here stays as it was through a restart and eight more passes.
+TEST(Progressive, AHeldFrameIsNotWrittenByLaterPasses) {
+  ProgressiveRenderer renderer;
+  renderer.restart(setup_for(first_camera(), 1));
+  std::shared_ptr<const ProgressiveFrame> held;
+  const auto deadline = std::chrono::steady_clock::now() + kTimeout;
+  while (!held && std::chrono::steady_clock::now() < deadline) {
+    held = renderer.take_frame(1, 1);
+    std::this_thread::yield();
+  }
+  ASSERT_NE(held, nullptr);
+  const ProgressiveFrame copy = *held;
+  renderer.restart(setup_for(second_camera(), 8));
+  const ProgressiveFrame last = frame_at(renderer, 2, 9);
+  EXPECT_EQ(last.spp, 8);
+  expect_same_image(last, reference(second_camera(), 8));
+  EXPECT_EQ(held->image.rgba, copy.image.rgba);
+  ASSERT_EQ(held->pixels.size(), copy.pixels.size());
+  for (size_t i = 0; i < copy.pixels.size(); ++i) {
+    ASSERT_EQ(held->pixels[i].depth, copy.pixels[i].depth) << "pixel " << i;
+    ASSERT_EQ(held->pixels[i].steps, copy.pixels[i].steps) << "pixel " << i;
+  }
+  expect_same_image(*held, reference(first_camera(), 1));
+}
+
 TEST(Progressive, RestartWithANewCameraRendersTheNewView) {
   ProgressiveRenderer renderer;
   renderer.restart(setup_for(first_camera(), 1));

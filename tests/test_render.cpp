@@ -2,13 +2,18 @@
 // recorded render of scenes whose answers follow from their geometry holds exactly those
 // answers, the paper's workload (bounces 0) gives the closed-form colours of a lit and of a
 // shadowed floor, bounces only add light and do not depend on the thread count, and the
-// zero-overhead oracle replays a recorded render into the same image byte for byte.
+// zero-overhead oracle replays a recorded render into the same image byte for byte. The
+// display table gives the bytes the gamma transform's definition gives, float by float
+// around each of its steps.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <limits>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -18,6 +23,7 @@
 #include "core/accel/zero_overhead.h"
 #include "core/base/error.h"
 #include "core/geometry/ray_io.h"
+#include "core/render/display.h"
 #include "core/render/render.h"
 #include "tests/test_util.h"
 
@@ -88,6 +94,64 @@ int display_value(double linear) { return int(255.0 * std::pow(linear, 1.0 / 2.2
 
 constexpr double kAlbedo[3] = {0.85, 0.80, 0.72};
 constexpr double kAmbient = 0.15;
+
+// A linear value's byte by the transform's definition: gamma 2.2 by powf, then 8 bits.
+int byte_by_definition(float linear) {
+  const float display = std::pow(std::min(linear, 1.0f), 1.0f / 2.2f);
+  return int(uint8_t(std::clamp(display, 0.0f, 1.0f) * 255.0f + 0.5f));
+}
+
+TEST(DisplayTable, StepsAreWhereTheDefinitionsByteRises) {
+  const std::array<float, 256>& steps = linear_byte_steps();
+  EXPECT_EQ(steps[0], 0.0f);
+  for (int k = 1; k < 256; ++k) {
+    const float step = steps[size_t(k)];
+    ASSERT_GT(step, steps[size_t(k - 1)]) << k;
+    EXPECT_EQ(byte_by_definition(step), k);
+    EXPECT_EQ(byte_by_definition(std::nextafter(step, 0.0f)), k - 1);
+  }
+}
+
+TEST(DisplayTable, GivesTheDefinitionsByteForEveryFloatNearEachStep) {
+  // Only near a step can powf's rounding make the two differ (docs/design.md §6.10).
+  constexpr uint32_t kAround = 4096;
+  const uint32_t one = std::bit_cast<uint32_t>(1.0f);
+  const std::array<float, 256>& steps = linear_byte_steps();
+  for (int k = 1; k < 256; ++k) {
+    const uint32_t at = std::bit_cast<uint32_t>(steps[size_t(k)]);
+    const uint32_t last = std::min(at + kAround, one);
+    for (uint32_t bits = at - std::min(at, kAround); bits <= last; ++bits) {
+      const float x = std::bit_cast<float>(bits);
+      ASSERT_EQ(int(linear_byte(x)), byte_by_definition(x)) << "x = " << x << ", step " << k;
+    }
+  }
+}
+
+TEST(DisplayTable, GivesTheDefinitionsByteOnRandomAndSpecialValues) {
+  std::mt19937 random(7);
+  std::uniform_int_distribution<uint32_t> any_bits(0, std::bit_cast<uint32_t>(1.0f));
+  std::uniform_real_distribution<float> any_value(0.0f, 2.0f);
+  std::vector<float> values = {0.0f,
+                               -0.0f,
+                               std::numeric_limits<float>::denorm_min(),
+                               std::numeric_limits<float>::min(),
+                               1.0f,
+                               std::nextafter(1.0f, 2.0f),
+                               2.0f,
+                               std::numeric_limits<float>::infinity()};
+  for (int i = 0; i < 100000; ++i) {
+    values.push_back(std::bit_cast<float>(any_bits(random)));
+    values.push_back(any_value(random));
+  }
+  for (const float x : values) ASSERT_EQ(int(linear_byte(x)), byte_by_definition(x)) << x;
+  // The three channels, and the multi-sample path (display colour, then its bytes).
+  for (size_t i = 0; i + 2 < values.size(); i += 3) {
+    const glm::vec3 linear(values[i], values[i + 1], values[i + 2]);
+    const std::array<uint8_t, 3> bytes = linear_bytes(linear);
+    EXPECT_EQ(bytes, display_bytes(display_colour(linear)));
+    for (int c = 0; c < 3; ++c) ASSERT_EQ(int(bytes[size_t(c)]), byte_by_definition(linear[c]));
+  }
+}
 
 TEST(RenderKeys, AreABijectionOntoTheKeyRange) {
   for (const RenderSettings settings :

@@ -53,6 +53,45 @@ std::string caught_error_line() {
   return message.empty() ? "unknown error" : message;
 }
 
+// The images and records of frames their last holder dropped, for later passes to write
+// into: a fresh 1274x794 pass's 20 MB cost 12 ms of page faults on the controller's thread
+// before the pass's first ray. Shared with the frames' deleters (on whichever thread drops
+// a frame last, perhaps after the renderer is gone).
+class StoragePool {
+ public:
+  // Storage for an image of `pixels` pixels: a kept set of that size, or none (a set of
+  // another size, from before a resize, is dropped).
+  PassStorage take(size_t pixels) {
+    std::lock_guard lock(mutex_);
+    while (!kept_.empty()) {
+      PassStorage storage = std::move(kept_.back());
+      kept_.pop_back();
+      if (storage.pixels.size() == pixels) return storage;
+    }
+    return {};
+  }
+  void give_back(PassStorage storage) {
+    if (storage.pixels.empty() || storage.rgba.size() != 4 * storage.pixels.size()) return;
+    std::lock_guard lock(mutex_);
+    if (kept_.size() < kKept) kept_.push_back(std::move(storage));
+  }
+
+ private:
+  // A pass takes one set while the UI shows the previous frame: two cover a restart's
+  // coarse and full passes; more would only hold memory.
+  static constexpr size_t kKept = 2;
+  std::mutex mutex_;
+  std::vector<PassStorage> kept_;
+};
+
+// A new frame whose image and records go back to `pool` when its last holder drops it.
+std::shared_ptr<ProgressiveFrame> make_frame(const std::shared_ptr<StoragePool>& pool) {
+  return std::shared_ptr<ProgressiveFrame>(new ProgressiveFrame, [pool](ProgressiveFrame* frame) {
+    pool->give_back({std::move(frame->image.rgba), std::move(frame->pixels)});
+    delete frame;
+  });
+}
+
 }  // namespace
 
 struct ProgressiveRenderer::State {
@@ -100,6 +139,11 @@ struct ProgressiveRenderer::State {
 
   // --- The controller's own (only its thread touches these).
   double lazy_seconds = 0.0;  // lazy building in the passes over `ready`, for its stats
+  // The accumulating passes' display-space sums and summed records, kept from one
+  // generation to the next for their storage.
+  std::vector<glm::vec3> sums;
+  std::vector<PixelRecord> records;
+  const std::shared_ptr<StoragePool> storage_pool = std::make_shared<StoragePool>();
 
   std::thread controller;
 
@@ -259,14 +303,14 @@ void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& s
       if (!abandoned()) row();
     };
     uint64_t rays = 0;
-    std::vector<PixelRecord> records;  // summed over the accumulated samples
+    const size_t pixels = size_t(w) * size_t(h);
     // Publishes a finished pass; false when the generation was abandoned meanwhile.
     auto publish = [&](int pass, int spp, RenderOutcome& outcome,
                        std::vector<PixelRecord>&& pixels) {
       if (abandoned()) return false;
       lazy_seconds += outcome.counters.lazy_build_seconds;
       rays += outcome.rays;
-      auto frame = std::make_shared<ProgressiveFrame>();
+      std::shared_ptr<ProgressiveFrame> frame = make_frame(storage_pool);
       frame->generation = gen;
       frame->width = w;
       frame->height = h;
@@ -296,32 +340,37 @@ void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& s
     };
 
     const Scene& scene = *setup.scene;
-    RenderOutcome outcome =
-        render_pass(scene, *accel, setup.camera, centre, kCoarseBlock, 0, nullptr, run_row);
+    RenderOutcome outcome = render_pass(scene, *accel, setup.camera, centre, kCoarseBlock, 0,
+                                        nullptr, run_row, storage_pool->take(pixels));
     if (!publish(1, 0, outcome, std::move(outcome.pixels))) return;
-    outcome = render_pass(scene, *accel, setup.camera, centre, 1, 0, nullptr, run_row);
+    outcome = render_pass(scene, *accel, setup.camera, centre, 1, 0, nullptr, run_row,
+                          storage_pool->take(pixels));
     if (!publish(2, 1, outcome, std::move(outcome.pixels))) return;
 
     // Accumulation: the pass with spp N adds render_image's samples for spp N that the
     // image does not have yet (pass 3 takes samples 0 and 1, as render_image jitters every
     // sample for spp > 1 and none for spp 1), so the image equals render_image's for spp N.
     const int max_spp = std::clamp(setup.max_spp, 1, kMaxSpp);
-    std::vector<glm::vec3> sums(size_t(w) * size_t(h));
+    // (The sums are started afresh by the pass that takes sample 0.)
+    sums.resize(pixels);
     for (int spp = 2; spp <= max_spp; ++spp) {
       const int first = spp == 2 ? 0 : spp - 1;
       const RenderSettings settings = image_settings(setup, spp);
-      outcome = render_pass(scene, *accel, setup.camera, settings, 1, first, &sums, run_row);
+      outcome = render_pass(scene, *accel, setup.camera, settings, 1, first, &sums, run_row,
+                            storage_pool->take(pixels));
       if (abandoned()) return;
+      // The frame shows the records summed over its samples, in the pass's own storage.
       if (first == 0) {
-        records = std::move(outcome.pixels);
+        records.assign(outcome.pixels.begin(), outcome.pixels.end());
       } else {
         for (size_t i = 0; i < records.size(); ++i) {
           records[i].steps = saturating_add(records[i].steps, outcome.pixels[i].steps);
           records[i].tests = saturating_add(records[i].tests, outcome.pixels[i].tests);
           records[i].built = saturating_add(records[i].built, outcome.pixels[i].built);
         }
+        std::copy(records.begin(), records.end(), outcome.pixels.begin());
       }
-      if (!publish(spp + 1, spp, outcome, std::vector<PixelRecord>(records))) return;
+      if (!publish(spp + 1, spp, outcome, std::move(outcome.pixels))) return;
     }
     std::lock_guard lock(mutex);
     if (generation == gen) busy = false;
@@ -330,7 +379,7 @@ void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& s
     end_build();
     std::lock_guard lock(mutex);
     if (generation != gen) return;
-    auto frame = std::make_shared<ProgressiveFrame>();
+    std::shared_ptr<ProgressiveFrame> frame = make_frame(storage_pool);
     frame->generation = gen;
     frame->width = setup.width;
     frame->height = setup.height;

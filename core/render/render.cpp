@@ -17,6 +17,7 @@
 #include "core/base/hash.h"
 #include "core/base/timing.h"
 #include "core/geometry/ray_io.h"
+#include "core/render/display.h"
 #include "core/scene/lighting.h"
 #include "core/trace/sampling.h"
 
@@ -122,11 +123,10 @@ glm::vec3 bounce_light(SampleTracer& tracer, const Surface& surface, int bounce)
   return kAlbedo * ((1.0f - kAmbient) * lambert + bounce_light(tracer, next, bounce + 1));
 }
 
-// Display-space colour of a primary ray's hit lit by `lambert` (0 when shadowed) and by
-// the light its bounces brought.
-glm::vec3 display_colour(float lambert, const glm::vec3& bounced) {
-  const glm::vec3 linear = kAlbedo * (kAmbient + (1.0f - kAmbient) * lambert) + kAlbedo * bounced;
-  return glm::pow(glm::min(linear, 1.0f), glm::vec3(1.0f / 2.2f));
+// Linear colour of a primary ray's hit lit by `lambert` (0 when shadowed) and by the light
+// its bounces brought.
+glm::vec3 hit_colour(float lambert, const glm::vec3& bounced) {
+  return kAlbedo * (kAmbient + (1.0f - kAmbient) * lambert) + kAlbedo * bounced;
 }
 
 // A counter difference as a PixelRecord field; saturates rather than wrapping (only a huge
@@ -134,6 +134,14 @@ glm::vec3 display_colour(float lambert, const glm::vec3& bounced) {
 uint32_t count_since(uint64_t now, uint64_t before) {
   return uint32_t(std::min<uint64_t>(now - before, UINT32_MAX));
 }
+
+// A block's total split over its n pixels so that the shares add up to it: total / n each,
+// one more for the first total % n pixels.
+struct Share {
+  uint32_t each, extra;
+  Share(uint32_t total, size_t n) : each(uint32_t(total / n)), extra(uint32_t(total % n)) {}
+  uint32_t of(size_t i) const { return each + (i < extra ? 1 : 0); }
+};
 
 // Packets trace blocks of 8x8 pixels (kMaxPacketRays rays): the primary rays of neighbouring
 // pixels, and the shadow rays from their hits toward the one light, walk nearly the same cells.
@@ -170,6 +178,7 @@ struct BlockShader {
     std::array<float, kMaxBlock> lambert;
     std::array<size_t, kMaxBlock> lit;
     std::array<glm::vec3, kMaxBlock> colours;
+    std::array<std::array<uint8_t, 3>, kMaxBlock> bytes;
   } scratch = {};
 
   // Rays of one kind, each answered as cast() answers it.
@@ -180,11 +189,14 @@ struct BlockShader {
   }
 
   // Adds sample s of each pixel (pixel centres for spp 1, a fixed jitter otherwise) to its
-  // colour; with sample 0, sets its record's depth.
+  // display-space colour or, given `bytes` (an image of one sample that keeps no sums), sets
+  // the pixel's bytes from its linear colour by the display table: the same bytes. With
+  // sample 0, sets each pixel's record's depth.
   void shade_sample(std::span<const BlockPixel> pixels, int s, glm::vec3* colours,
-                    PixelRecord* records) {
+                    std::array<uint8_t, 3>* bytes, PixelRecord* records) {
     static const glm::vec3 background =
         glm::vec3(kBackground[0], kBackground[1], kBackground[2]) / 255.0f;
+    static const std::array<uint8_t, 3> background_bytes = display_bytes(background);
     const int w = settings.width, spp = settings.spp;
     const size_t n = pixels.size();
     auto& primary = scratch.primary;
@@ -228,12 +240,23 @@ struct BlockShader {
       if (s == 0)
         records[pixels[i].index].depth = std::isinf(t) ? t : t * glm::dot(primary[i].dir, forward);
       if (!hits[i].found()) {
-        colours[i] += background;
+        if (bytes)
+          bytes[i] = background_bytes;
+        else
+          colours[i] += background;
         continue;
       }
       // With no bounces the sum adds an exact 0: the paper's workload's colours, unchanged.
-      SampleTracer tracer{scene, caster, settings, lighting, pixels[i].index, s};
-      colours[i] += display_colour(lambert[i], bounce_light(tracer, surfaces[i], 1));
+      glm::vec3 bounced(0.0f);
+      if (settings.bounces > 0) {
+        SampleTracer tracer{scene, caster, settings, lighting, pixels[i].index, s};
+        bounced = bounce_light(tracer, surfaces[i], 1);
+      }
+      const glm::vec3 linear = hit_colour(lambert[i], bounced);
+      if (bytes)
+        bytes[i] = linear_bytes(linear);
+      else
+        colours[i] += display_colour(linear);
     }
   }
 
@@ -245,29 +268,27 @@ struct BlockShader {
     const size_t n = pixels.size();
     const TraceCounters before = caster.context.counters;
     auto& colours = scratch.colours;
+    const bool one_sample = settings.spp == 1 && !sums;
     for (size_t i = 0; i < n; ++i)
       colours[i] = sums && first_sample > 0 ? sums[pixels[i].index] : glm::vec3(0.0f);
     for (int s = first_sample; s < settings.spp; ++s)
-      shade_sample(pixels, s, colours.data(), records);
+      shade_sample(pixels, s, colours.data(), one_sample ? scratch.bytes.data() : nullptr, records);
     const TraceCounters& after = caster.context.counters;
-    const uint32_t steps = count_since(after.traversal_steps, before.traversal_steps);
-    const uint32_t tests = count_since(after.intersection_tests, before.intersection_tests);
-    const uint32_t built = count_since(after.voxels_built, before.voxels_built);
+    const Share steps(count_since(after.traversal_steps, before.traversal_steps), n);
+    const Share tests(count_since(after.intersection_tests, before.intersection_tests), n);
+    const Share built(count_since(after.voxels_built, before.voxels_built), n);
     for (size_t i = 0; i < n; ++i) {
       const size_t index = pixels[i].index;
       if (sums) sums[index] = colours[i];
-      const glm::vec3 colour =
-          glm::clamp(colours[i] / float(settings.spp), 0.0f, 1.0f) * 255.0f + 0.5f;
+      const std::array<uint8_t, 3> rgb =
+          one_sample ? scratch.bytes[i] : display_bytes(colours[i] / float(settings.spp));
       uint8_t* pixel = &rgba[4 * index];
-      for (int k = 0; k < 3; ++k) pixel[k] = uint8_t(colour[k]);
+      std::copy(rgb.begin(), rgb.end(), pixel);
       pixel[3] = 255;
-      // Shares that add up to the block's total.
-      const auto share = [&](uint32_t total) {
-        return uint32_t(total / n + (i < total % n ? 1 : 0));
-      };
-      records[index].steps = share(steps);
-      records[index].tests = share(tests);
-      records[index].built = share(built);
+      if (first_sample > 0) records[index].depth = 0.0f;  // set by sample 0 only
+      records[index].steps = steps.of(i);
+      records[index].tests = tests.of(i);
+      records[index].built = built.of(i);
     }
   }
 };
@@ -315,16 +336,20 @@ void shade_band(BlockShader& shader, int side, int stride, int band, int first_s
   }
 }
 
-// Renders bands of rows (shade_band) into a fresh outcome, bands spread over the threads;
-// run_row (when given) runs or skips each band.
+// Renders bands of rows (shade_band) into an outcome whose image and records are written
+// into `storage` (every pixel of every band run, so what storage held does not show), bands
+// spread over the threads; run_row (when given) runs or skips each band.
 RenderOutcome render_rows(const Scene& scene, const Accelerator& accel, const Camera& camera,
                           const RenderSettings& settings, int stride, int first_sample,
-                          glm::vec3* sums, Hit* answers, const RowRunner& run_row) {
+                          glm::vec3* sums, Hit* answers, const RowRunner& run_row,
+                          PassStorage storage) {
   RenderOutcome outcome;
   Image& image = outcome.image;
   image.width = settings.width;
   image.height = settings.height;
+  image.rgba = std::move(storage.rgba);
   image.rgba.resize(size_t(image.width) * size_t(image.height) * 4);
+  outcome.pixels = std::move(storage.pixels);
   outcome.pixels.resize(size_t(image.width) * size_t(image.height));
   const Lighting lighting = make_lighting(scene, camera, settings.light);
   const bool packets = settings.packets && accel.traces_packets();
@@ -406,19 +431,20 @@ RenderOutcome render_image(const Scene& scene, const Accelerator& accel, const C
   accel.check_ray_keys(render_ray_keys(settings), "ray key of this render");
   if (answers) answers->assign(render_ray_keys(settings), Hit{});
   return render_rows(scene, accel, camera, settings, 1, 0, nullptr,
-                     answers ? answers->data() : nullptr, {});
+                     answers ? answers->data() : nullptr, {}, {});
 }
 
 RenderOutcome render_pass(const Scene& scene, const Accelerator& accel, const Camera& camera,
                           const RenderSettings& settings, int stride, int first_sample,
-                          std::vector<glm::vec3>* sums, const RowRunner& run_row) {
+                          std::vector<glm::vec3>* sums, const RowRunner& run_row,
+                          PassStorage storage) {
   if (stride < 1 || first_sample < 0 || first_sample >= settings.spp ||
       (stride > 1 && (settings.spp != 1 || sums)) ||
       (sums && sums->size() != size_t(settings.width) * size_t(settings.height)) ||
       (!sums && first_sample > 0))
     throw std::invalid_argument("render_pass: inconsistent stride, samples or sums");
   return render_rows(scene, accel, camera, settings, stride, first_sample,
-                     sums ? sums->data() : nullptr, nullptr, run_row);
+                     sums ? sums->data() : nullptr, nullptr, run_row, std::move(storage));
 }
 
 void write_png(const std::string& path, int width, int height, const std::vector<uint8_t>& rgba) {

@@ -129,10 +129,17 @@ using RowRunner = std::function<void(const std::function<void()>& row)>;
 //   image_sample_pixels picks in each stride x stride tile (for 8), every pixel of the tile
 //   taking its colour and record.
 // run_row, when given, runs or skips each band of rows; a skipped band leaves its pixels
-// zero. Throws std::invalid_argument for inconsistent arguments.
+// as `storage` had them (zero when it brought none). The outcome's image and records are
+// written into `storage`'s vectors (resized to the image: an earlier pass's of the same
+// size cost no allocation). Throws std::invalid_argument for inconsistent arguments.
+struct PassStorage {
+  std::vector<uint8_t> rgba;
+  std::vector<PixelRecord> pixels;
+};
 RenderOutcome render_pass(const Scene& scene, const Accelerator& accel, const Camera& camera,
                           const RenderSettings& settings, int stride, int first_sample,
-                          std::vector<glm::vec3>* sums, const RowRunner& run_row = {});
+                          std::vector<glm::vec3>* sums, const RowRunner& run_row = {},
+                          PassStorage storage = {});
 
 // Throws InputError naming the path when the PNG cannot be written.
 void write_png(const std::string& path, int width, int height, const std::vector<uint8_t>& rgba);
