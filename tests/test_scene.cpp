@@ -5,6 +5,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <bit>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -843,6 +844,76 @@ TEST(Parse, Int64AgreesWithFromChars) {
   }
 }
 
+// parse_float's short-decimal path gives std::from_chars's float, bit for bit, and leaves
+// every other token to it: plain decimals of every length around the path's limits (2^24,
+// ten decimals, 19 digits), signs, points at either end, exponents and stray letters.
+TEST(Parse, FloatAgreesWithFromChars) {
+  std::vector<std::string> tokens = {"",
+                                     "-",
+                                     ".",
+                                     "-.",
+                                     "0",
+                                     "-0",
+                                     "0.0",
+                                     "-0.000",
+                                     "5.",
+                                     ".5",
+                                     "-.5",
+                                     "007.50",
+                                     "16777216",
+                                     "16777217",
+                                     "1677721.6",
+                                     "1677721.7",
+                                     "0.1",
+                                     "0.3",
+                                     "3.4e38",
+                                     "1e-50",
+                                     "1.5e3",
+                                     "0.0893701",
+                                     "-0.0503644",
+                                     "1.2.3",
+                                     "--1",
+                                     "+-1",
+                                     "1-",
+                                     "0x10",
+                                     "inf",
+                                     "nan",
+                                     "0.00000000001",
+                                     "0.0000000001",
+                                     "12345678901234567890",
+                                     "0000000000000000000001",
+                                     "9.999999999"};
+  uint64_t state = 2024;
+  const auto next = [&state] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return state >> 33;
+  };
+  for (int i = 0; i < 20000; ++i) {
+    std::string token = next() % 3 == 0 ? "-" : "";
+    const uint64_t length = next() % 13, point = next() % (length + 2);
+    for (uint64_t n = 0; n < length; ++n) {
+      if (n == point) token += '.';
+      token += char('0' + next() % 10);
+    }
+    if (next() % 50 == 0) token += next() % 2 ? "e7" : "x";
+    tokens.push_back(token);
+  }
+  for (const std::string& token : tokens) {
+    const char* first = token.data();
+    const char* last = first + token.size();
+    float got = -7.0f, want = -7.0f;
+    const bool parsed = detail::parse_float(first, last, got);
+    const auto [ptr, ec] = std::from_chars(first, last, want);
+    // Out of range, the value is strtof's (documented in scene.h).
+    const bool range = ec == std::errc::result_out_of_range;
+    if (range) want = std::strtof(token.c_str(), nullptr);
+    EXPECT_EQ(parsed, ptr == last && !token.empty() && (ec == std::errc() || range)) << token;
+    if (parsed) {
+      EXPECT_EQ(std::bit_cast<uint32_t>(got), std::bit_cast<uint32_t>(want)) << token;
+    }
+  }
+}
+
 // An ASCII face list read by the one-pass digit path and by the general one gives the same
 // faces, and what the one-pass path declines still gets the general path's checks.
 TEST(Ply, AsciiIndicesOfEveryLengthAndSeparator) {
@@ -857,6 +928,29 @@ TEST(Ply, AsciiIndicesOfEveryLengthAndSeparator) {
                    "expected an integer, found '+1'");
   expect_ply_error("huge.ply", kTriangleHeader + body + "3 0 1 99999999999999999999\n",
                    "expected an integer, found '99999999999999999999'");
+}
+
+// ASCII coordinates read by the one-pass short-decimal path and by the general one give
+// from_chars's floats, and what the one-pass path declines still gets the general checks.
+TEST(Ply, AsciiCoordinatesOfEveryFormAndSeparator) {
+  const std::vector<std::string> words = {"0.5", "-0",  "1e0",          "+2",      ".25",
+                                          "3.",  "-.5", "0.0000000001", "16777217"};
+  const std::string body = words[0] + "\t" + words[1] + " " + words[2] + "\n" + words[3] + " " +
+                           words[4] + "\v" + words[5] + "\n" + words[6] + " " + words[7] + "  " +
+                           words[8] + "\r\n3 0 1 2\n3 2 1 0\n";
+  const Scene scene = load_scene(write_temp_file("coordinates.ply", kTriangleHeader + body));
+  ASSERT_EQ(scene.vertices.size(), 3u);
+  for (size_t i = 0; i < 9; ++i) {
+    const float want = std::strtof(words[i].c_str(), nullptr);
+    EXPECT_EQ(std::bit_cast<uint32_t>(scene.vertices[i / 3][int(i % 3)]),
+              std::bit_cast<uint32_t>(want))
+        << words[i];
+  }
+  const std::string faces = "3 0 1 2\n3 0 1 2\n";
+  expect_ply_error("letter_after.ply", kTriangleHeader + "0 0 0\n1 0 0\n0 1.5x 0\n" + faces,
+                   "expected a number, found '1.5x'");
+  expect_ply_error("two_points.ply", kTriangleHeader + "0 0 0\n1 0 0\n0 1.2.3 0\n" + faces,
+                   "expected a number, found '1.2.3'");
 }
 
 TEST(BadInput, TruncatedBinaryPly) {

@@ -244,8 +244,10 @@ class AsciiSource {
       out = static_cast<float>(value);
       return true;
     }
-    if (!next_token()) return false;
-    if (!detail::parse_float(token_, token_end_, out)) bad_token("a number");
+    if (!next_short_decimal(out)) {
+      if (!next_token()) return false;
+      if (!detail::parse_float(token_, token_end_, out)) bad_token("a number");
+    }
     return true;
   }
 
@@ -301,6 +303,19 @@ class AsciiSource {
     if (p == first || p - first > 18 || (p != end_ && !is_space(*p))) return false;
     token_ = first, token_end_ = p_ = p;
     out = int64_t(value);
+    return true;
+  }
+
+  // The next token read and parsed in one pass when it is what vertex lists hold, a short
+  // decimal (detail::parse_short_decimal) and nothing else; false, with nothing consumed,
+  // for anything else, which the general path then reads. Scanning the token first, then
+  // parsing it, read every coordinate's bytes twice.
+  bool next_short_decimal(float& out) {
+    const char* p = p_;
+    while (p != end_ && is_space(*p)) ++p;
+    const char* stop = detail::parse_short_decimal(p, end_, out);
+    if (!stop || (stop != end_ && !is_space(*stop))) return false;
+    token_ = p, token_end_ = p_ = stop;
     return true;
   }
 

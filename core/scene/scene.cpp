@@ -145,11 +145,33 @@ std::string read_scene_file(const std::string& path, uint64_t limit, uint64_t fi
   return gzip ? read_gzip(path, f.get(), limit) : read_plain(path, f.get(), size);
 }
 
+const char* parse_short_decimal(const char* first, const char* last, float& out) {
+  static constexpr float kTens[] = {1e0f, 1e1f, 1e2f, 1e3f, 1e4f, 1e5f,
+                                    1e6f, 1e7f, 1e8f, 1e9f, 1e10f};
+  const bool negative = first != last && *first == '-';
+  const char* p = first + negative;
+  uint64_t m = 0;  // wraps past 19 digits, which are declined
+  int digits = 0;
+  for (; p != last && static_cast<unsigned>(*p - '0') <= 9u; ++p, ++digits)
+    m = m * 10 + uint64_t(*p - '0');
+  int fraction = 0;
+  if (p != last && *p == '.')
+    for (++p; p != last && static_cast<unsigned>(*p - '0') <= 9u; ++p, ++fraction)
+      m = m * 10 + uint64_t(*p - '0');
+  if (digits + fraction == 0 || digits + fraction > 19 || fraction > 10 || m > (uint64_t{1} << 24))
+    return nullptr;
+  // m and 10^fraction are exact floats: one correctly rounded division.
+  const float value = float(m) / kTens[fraction];
+  out = negative ? -value : value;
+  return p;
+}
+
 bool parse_float(const char* first, const char* last, float& out) {
   // std::from_chars rejects a leading '+' that strtod and most writers accept.
   if (first != last && *first == '+' && last - first > 1 && first[1] != '-' && first[1] != '+') {
     ++first;
   }
+  if (parse_short_decimal(first, last, out) == last) return true;
   const auto [ptr, ec] = std::from_chars(first, last, out);
   if (ptr != last || first == last) return false;
   if (ec == std::errc()) return true;
