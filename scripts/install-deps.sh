@@ -2,7 +2,7 @@
 # Installs the Debian 12 packages gridscope builds, tests and runs with.
 # Idempotent: packages already present are skipped, so a warm machine pays nothing.
 set -eu
-packages="cmake ninja-build g++ pkg-config zlib1g-dev libpng-dev libglm-dev libtinyobjloader-dev libstb-dev
+packages="cmake ninja-build g++ pkg-config zlib1g-dev libdeflate-dev libpng-dev libglm-dev libtinyobjloader-dev libstb-dev
 nlohmann-json3-dev libgtest-dev libbenchmark-dev libembree-dev libtbb-dev
 libglfw3-dev libimgui-dev libosmesa6-dev python3-glad xvfb xauth
 clang libclang-rt-14-dev"

@@ -16,6 +16,7 @@
 #include <functional>
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -999,6 +1000,57 @@ TEST(BadInput, CorruptGzip) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find(big + ": decompressed data exceeds"), std::string::npos);
   }
+}
+
+// The gzip reader (libdeflate on the whole file, zlib's stream when that declines) gives what
+// zlib's own stream reading gives, bytes or failure: one member larger than a read chunk,
+// members back to back, a trailer claiming more or less than the data, trailing garbage.
+std::optional<std::string> gzread_all(const std::string& path) {
+  gzFile gz = gzopen(path.c_str(), "rb");
+  if (!gz) return std::nullopt;
+  std::string data;
+  char buffer[1 << 16];
+  int got = 0;
+  while ((got = gzread(gz, buffer, sizeof buffer)) > 0) data.append(buffer, size_t(got));
+  int code = Z_OK;
+  gzerror(gz, &code);
+  gzclose(gz);
+  if (got < 0 || code != Z_OK) return std::nullopt;
+  return data;
+}
+
+TEST(Gzip, ReadsWhatZlibsStreamReads) {
+  std::string text;
+  for (uint64_t i = 0; text.size() < (3u << 20); ++i)
+    text += std::to_string(i * 7919 % 100003) + ' ';
+  const std::string one = test::slurp(write_gzip("one.gz", text));
+  const std::string small = test::slurp(write_gzip("small.gz", "3 0 1 2\n"));
+  std::string more = one, less = one;
+  more[more.size() - 1] = char(more[more.size() - 1] + 1);  // ISIZE's top byte: 16M more
+  less[less.size() - 4] = char(less[less.size() - 4] - 1);  // one byte fewer than the data
+  const std::vector<std::pair<std::string, std::string>> files = {
+      {"whole.gz", one},
+      {"two.gz", small + one},
+      {"two_small_last.gz", one + small},
+      {"more.gz", more},
+      {"less.gz", less},
+      {"garbage.gz", one + "garbage"},
+      {"truncated.gz", one.substr(0, one.size() - 3)}};
+  for (const auto& [name, bytes] : files) {
+    SCOPED_TRACE(name);
+    const std::string path = write_temp_file(name, bytes);
+    const std::optional<std::string> want = gzread_all(path);
+    try {
+      const std::string got = detail::read_scene_file(path);
+      ASSERT_TRUE(want.has_value()) << "zlib's stream fails on it";
+      EXPECT_EQ(got, *want);
+    } catch (const InputError& e) {
+      EXPECT_FALSE(want.has_value()) << e.what();
+      EXPECT_NE(std::string(e.what()).find("gzip"), std::string::npos) << e.what();
+    }
+  }
+  // The reference itself reads members back to back.
+  EXPECT_EQ(gzread_all(write_temp_file("check.gz", small + one)), "3 0 1 2\n" + text);
 }
 
 // ---------------------------------------------------------------------------------------
