@@ -845,6 +845,38 @@ TEST(Parse, Int64AgreesWithFromChars) {
   }
 }
 
+// The word-at-a-time digit reader answers as a loop over the bytes does: every run length
+// 0..8, every byte value ending the run, random digits and random bytes after it.
+TEST(Parse, ShortDigitRunAgreesWithALoop) {
+  uint64_t state = 99;
+  const auto next = [&state] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return state >> 33;
+  };
+  for (int n = 0; n <= 8; ++n)
+    for (int end = 0; end < 256; ++end)
+      for (int trial = 0; trial < 8; ++trial) {
+        char bytes[8];
+        for (int i = 0; i < 8; ++i) bytes[i] = char(next() % 256);
+        for (int i = 0; i < n; ++i) bytes[i] = char('0' + next() % 10);
+        if (n < 8) bytes[n] = char(end);
+        size_t run = 0;
+        uint64_t want = 0;
+        for (; run < 8 && static_cast<unsigned>(bytes[run] - '0') <= 9u; ++run)
+          want = want * 10 + uint64_t(bytes[run] - '0');
+        const char* p = bytes;
+        uint64_t got = 12345;
+        const bool read = detail::short_digit_run(p, got);
+        ASSERT_EQ(read, run < 8) << n << " " << end;
+        if (!read) {
+          EXPECT_EQ(p, bytes);
+          continue;
+        }
+        ASSERT_EQ(p, bytes + run) << n << " " << end;
+        ASSERT_EQ(got, want) << n << " " << end;
+      }
+}
+
 // parse_float's short-decimal path gives std::from_chars's float, bit for bit, and leaves
 // every other token to it: plain decimals of every length around the path's limits (2^24,
 // ten decimals, 19 digits), signs, points at either end, exponents and stray letters.

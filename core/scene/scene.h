@@ -2,8 +2,10 @@
 // n-gon split into n-2 consecutive ids). Loaders and built-in generators produce it; every
 // accelerator consumes it.
 #pragma once
+#include <bit>
 #include <charconv>
 #include <cstdint>
+#include <cstring>
 #include <glm/vec3.hpp>
 #include <limits>
 #include <string>
@@ -109,6 +111,38 @@ const char* parse_short_decimal(const char* first, const char* last, float& out)
 // Accepts a leading '+', "nan" and "inf"; an out-of-range magnitude becomes +-inf or 0
 // as strtod would give. Returns false when the token is not a number.
 bool parse_float(const char* first, const char* last, float& out);
+// The run of fewer than 8 decimal digits at p, from the 8 bytes there (all readable): its
+// value into `value` and p moved past it, true; false, with nothing changed, when all 8
+// bytes are digits. Every byte is classified and the digits combined in a few word
+// operations instead of a loop per digit: the 871k-triangle dragon's 3.5 million face
+// indices took 7 instructions per digit that way.
+inline bool short_digit_run(const char*& p, uint64_t& value) {
+  static_assert(std::endian::native == std::endian::little);
+  uint64_t word = 0;
+  std::memcpy(&word, p, 8);  // byte i is p[i] (x86-64 is little-endian)
+  // A byte's top bit ends up set iff it is below '0' (the subtraction borrows) or above '9'
+  // (adding 0x46 reaches 0x80). Borrows and carries only ever cross out of a non-digit byte,
+  // so the lowest byte flagged is the first non-digit.
+  const uint64_t digits = word - 0x3030303030303030u;
+  const uint64_t flags = (digits | (word + 0x4646464646464646u)) & 0x8080808080808080u;
+  if (flags == 0) return false;
+  const int n = std::countr_zero(flags) / 8;  // digits before the first non-digit
+  if (n == 0) {
+    value = 0;
+    return true;
+  }
+  // The n digit values moved to the top bytes: zero bytes below are leading zeros (the
+  // lowest byte is the most significant digit). Then pairs, quadruples and the whole word
+  // are combined, each step multiplying the higher-order part by 10, 100 or 10^4.
+  uint64_t v = digits << (8 * (8 - n));
+  v = (v * 10 + (v >> 8)) & 0x00FF00FF00FF00FFu;
+  v = (v * 100 + (v >> 16)) & 0x0000FFFF0000FFFFu;
+  v = (v * 10000 + (v >> 32)) & 0xFFFFFFFFu;
+  value = v;
+  p += n;
+  return true;
+}
+
 // std::from_chars(first, last, out) for a base-10 int64_t, the same answer for every input,
 // with a fast path for what files hold: an optional '-' and at most 18 digits, which cannot
 // overflow. Loading the 871k-triangle dragon spent a third of its face parsing in
