@@ -303,7 +303,7 @@ void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& s
       if (!abandoned()) row();
     };
     uint64_t rays = 0;
-    const size_t pixels = size_t(w) * size_t(h);
+    const size_t pixel_count = size_t(w) * size_t(h);
     // Publishes a finished pass; false when the generation was abandoned meanwhile.
     auto publish = [&](int pass, int spp, RenderOutcome& outcome,
                        std::vector<PixelRecord>&& pixels) {
@@ -341,10 +341,10 @@ void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& s
 
     const Scene& scene = *setup.scene;
     RenderOutcome outcome = render_pass(scene, *accel, setup.camera, centre, kCoarseBlock, 0,
-                                        nullptr, run_row, storage_pool->take(pixels));
+                                        nullptr, run_row, storage_pool->take(pixel_count));
     if (!publish(1, 0, outcome, std::move(outcome.pixels))) return;
     outcome = render_pass(scene, *accel, setup.camera, centre, 1, 0, nullptr, run_row,
-                          storage_pool->take(pixels));
+                          storage_pool->take(pixel_count));
     if (!publish(2, 1, outcome, std::move(outcome.pixels))) return;
 
     // Accumulation: the pass with spp N adds render_image's samples for spp N that the
@@ -352,12 +352,12 @@ void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& s
     // sample for spp > 1 and none for spp 1), so the image equals render_image's for spp N.
     const int max_spp = std::clamp(setup.max_spp, 1, kMaxSpp);
     // (The sums are started afresh by the pass that takes sample 0.)
-    sums.resize(pixels);
+    sums.resize(pixel_count);
     for (int spp = 2; spp <= max_spp; ++spp) {
       const int first = spp == 2 ? 0 : spp - 1;
       const RenderSettings settings = image_settings(setup, spp);
       outcome = render_pass(scene, *accel, setup.camera, settings, 1, first, &sums, run_row,
-                            storage_pool->take(pixels));
+                            storage_pool->take(pixel_count));
       if (abandoned()) return;
       // The frame shows the records summed over its samples, in the pass's own storage.
       if (first == 0) {
