@@ -305,8 +305,7 @@ void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& s
     uint64_t rays = 0;
     const size_t pixel_count = size_t(w) * size_t(h);
     // Publishes a finished pass; false when the generation was abandoned meanwhile.
-    auto publish = [&](int pass, int spp, RenderOutcome& outcome,
-                       std::vector<PixelRecord>&& pixels) {
+    auto publish = [&](int pass, int spp, RenderOutcome& outcome) {
       if (abandoned()) return false;
       lazy_seconds += outcome.counters.lazy_build_seconds;
       rays += outcome.rays;
@@ -317,7 +316,7 @@ void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& s
       frame->pass = pass;
       frame->spp = spp;
       frame->image = std::move(outcome.image);
-      frame->pixels = std::move(pixels);
+      frame->pixels = std::move(outcome.pixels);
       frame->rays_per_second = outcome.seconds > 0.0 ? double(outcome.rays) / outcome.seconds : 0.0;
       frame->rays = rays;
       frame->pass_rays = outcome.rays;
@@ -342,10 +341,10 @@ void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& s
     const Scene& scene = *setup.scene;
     RenderOutcome outcome = render_pass(scene, *accel, setup.camera, centre, kCoarseBlock, 0,
                                         nullptr, run_row, storage_pool->take(pixel_count));
-    if (!publish(1, 0, outcome, std::move(outcome.pixels))) return;
+    if (!publish(1, 0, outcome)) return;
     outcome = render_pass(scene, *accel, setup.camera, centre, 1, 0, nullptr, run_row,
                           storage_pool->take(pixel_count));
-    if (!publish(2, 1, outcome, std::move(outcome.pixels))) return;
+    if (!publish(2, 1, outcome)) return;
 
     // Accumulation: the pass with spp N adds render_image's samples for spp N that the
     // image does not have yet (pass 3 takes samples 0 and 1, as render_image jitters every
@@ -370,7 +369,7 @@ void ProgressiveRenderer::State::run_generation(uint64_t gen, const ViewSetup& s
         }
         std::copy(records.begin(), records.end(), outcome.pixels.begin());
       }
-      if (!publish(spp + 1, spp, outcome, std::move(outcome.pixels))) return;
+      if (!publish(spp + 1, spp, outcome)) return;
     }
     std::lock_guard lock(mutex);
     if (generation == gen) busy = false;

@@ -301,12 +301,10 @@ class AsciiSource {
     while (p != end_ && is_space(*p)) ++p;
     const char* first = p;
     uint64_t value = 0;  // unsigned: a longer run of digits wraps (and is declined) unharmed
-    if (end_ - p >= 8 && detail::short_digit_run(p, value)) {
-      // Fewer than 8 digits, read 8 bytes at a time.
-    } else {
+    // Fewer than 8 digits with 8 bytes to read are read a word at a time, others digit by digit.
+    if (end_ - p < 8 || !detail::short_digit_run(p, value))
       for (; p != end_ && static_cast<unsigned>(*p - '0') <= 9u; ++p)
         value = value * 10 + unsigned(*p - '0');
-    }
     if (p == first || p - first > 18 || (p != end_ && !is_space(*p))) return false;
     token_ = first, token_end_ = p_ = p;
     out = int64_t(value);
