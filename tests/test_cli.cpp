@@ -699,6 +699,23 @@ TEST(Cli, VersionPrintsTheVersionAndTheCommit) {
   expect_failure(run("--version extra"), 2, "extra");
 }
 
+// OSMesa, and with it LLVM, is opened for a headless frame, not at start-up: linked, it cost
+// every command about 60 ms (app/gl/headless.cpp). The dynamic loader lists what it loads.
+// The sanitizer builds link it (app/gl/CMakeLists.txt says why).
+TEST(Cli, OsMesaIsLoadedOnlyForAHeadlessFrame) {
+  if (GRIDSCOPE_OSMESA_LINKED) GTEST_SKIP() << "this build links OSMesa";
+  const Outcome start = gs::test::run_gridscope("--version", "env LD_DEBUG=files");
+  ASSERT_EQ(start.status, 0) << start.err;
+  EXPECT_NE(start.err.find("file="), std::string::npos) << "no loader listing: " << start.err;
+  EXPECT_EQ(start.err.find("libOSMesa"), std::string::npos) << start.err;
+  const Outcome shot = gs::test::run_gridscope(
+      "shot builtin:pyramid --size 16x16 --out " + quoted(temp_path("osmesa.png")),
+      "env LD_DEBUG=files");
+  ASSERT_EQ(shot.status, 0) << shot.err;
+  EXPECT_NE(shot.err.find("file=libOSMesa.so"), std::string::npos);
+  EXPECT_NE(shot.err.find("dynamically loaded by"), std::string::npos);
+}
+
 // Which structure reads which flag, from the structures' own code (the parameters each
 // constructor and cost model takes): a flag another structure reads is refused by name.
 TEST(Cli, StructureFlagTheStructureDoesNotReadIsExitTwo) {
