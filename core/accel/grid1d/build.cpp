@@ -375,22 +375,30 @@ double Grid1D::estimated_rays(uint32_t id, size_t crossing_count) const {
   return crossing_count > 0 ? double(crossing_count) * rays_per_sample_ : regions_[id].area_rays;
 }
 
-// N, extents, mean triangle sizes (each clipped to the voxel, §6.3) and estimated rays.
+// N, extents and estimated rays; the mean triangle sizes are left to mean_clipped_size, for
+// the axes a decision needs.
 VoxelFigures Grid1D::figures_of(uint32_t id, const double lo[3], const double hi[3],
                                 size_t crossing_count) const {
-  const Voxel& voxel = voxels_[id];
   VoxelFigures figures;
-  figures.triangles = voxel.tri_count;
+  figures.triangles = voxels_[id].tri_count;
   for (int a = 0; a < 3; ++a) figures.extent[a] = hi[a] - lo[a];
-  for (uint32_t i = 0; i < voxel.tri_count; ++i) {
-    const double* box = input_.box(tri_indices_[voxel.tri_begin + i]);
-    for (int a = 0; a < 3; ++a)
-      figures.mean_size[a] += std::max(0.0, std::min(box[a + 3], hi[a]) - std::max(box[a], lo[a]));
-  }
-  if (voxel.tri_count > 0)
-    for (double& size : figures.mean_size) size /= voxel.tri_count;
   figures.rays = estimated_rays(id, crossing_count);
   return figures;
+}
+
+// The mean size along `axis` of the voxel's triangles, each clipped to the voxel (§6.3). One
+// axis at a time: the paper's alternation plans one axis per voxel, and a pass over the
+// triangles for all three cost as much as the cut itself.
+double Grid1D::mean_clipped_size(uint32_t id, int axis, const double lo[3],
+                                 const double hi[3]) const {
+  const Voxel& voxel = voxels_[id];
+  if (voxel.tri_count == 0) return 0.0;
+  double sum = 0.0;
+  for (uint32_t i = 0; i < voxel.tri_count; ++i) {
+    const double* box = input_.box(tri_indices_[voxel.tri_begin + i]);
+    sum += std::max(0.0, std::min(box[axis + 3], hi[axis]) - std::max(box[axis], lo[axis]));
+  }
+  return sum / voxel.tri_count;
 }
 
 // The most cells each axis may take: max granularity, the minimum cell width, and the
@@ -427,24 +435,33 @@ Grid1D::Cut Grid1D::plan_cut(uint32_t id) const {
   double lo[3], hi[3];
   voxel_box(id, lo, hi);
   const std::vector<Crossing> crossing = crossings(id, lo, hi);
-  const VoxelFigures figures = figures_of(id, lo, hi, crossing.size());
+  VoxelFigures figures = figures_of(id, lo, hi, crossing.size());
   cut.rays = figures.rays;
   const std::array<int, 3> limits = granularity_limits(id, figures, lo, hi);
+  const bool alternate = params_.axis == AxisRule::alternate;
   std::vector<AxisPlan> plans;
+  bool first_axis = true;
   for (int k = 0; k < 3; ++k) {
     const int a = (int(region.depth) + k) % 3;
     if (limits[a] == 0) continue;
+    figures.mean_size[a] = mean_clipped_size(id, a, lo, hi);
     const AxisPlan plan = plan_axis(params_, figures, a, limits[a]);
-    if (params_.axis == AxisRule::alternate && plans.empty() && plan.granularity < 2) return cut;
-    if (plan.granularity >= 2) plans.push_back(plan);
+    if (alternate) {
+      // The first axis that can be cut decides whether to cut; the next ones are planned,
+      // and tried, only if its cut would separate nothing.
+      if (first_axis && plan.granularity < 2) return cut;
+      first_axis = false;
+      if (plan.granularity >= 2 && sort_into_cells(id, a, plan.granularity, lo, hi, crossing, cut))
+        return cut;
+    } else if (plan.granularity >= 2) {
+      plans.push_back(plan);
+    }
   }
-  if (params_.axis == AxisRule::cost) {
-    const auto whole = [&](const AxisPlan& p) {
-      return p.cut_total + figures.rays * along_axis_cost(params_, figures, p.axis);
-    };
-    std::stable_sort(plans.begin(), plans.end(),
-                     [&](const AxisPlan& x, const AxisPlan& y) { return whole(x) < whole(y); });
-  }
+  const auto whole = [&](const AxisPlan& p) {
+    return p.cut_total + figures.rays * along_axis_cost(params_, figures, p.axis);
+  };
+  std::stable_sort(plans.begin(), plans.end(),
+                   [&](const AxisPlan& x, const AxisPlan& y) { return whole(x) < whole(y); });
   for (const AxisPlan& plan : plans)
     if (sort_into_cells(id, plan.axis, plan.granularity, lo, hi, crossing, cut)) return cut;
   return Cut{};
@@ -460,6 +477,7 @@ VoxelCostReport Grid1D::cost_report(uint32_t id) const {
   double lo[3], hi[3];
   voxel_box(id, lo, hi);
   report.figures = figures_of(id, lo, hi, crossings(id, lo, hi).size());
+  for (int a = 0; a < 3; ++a) report.figures.mean_size[a] = mean_clipped_size(id, a, lo, hi);
   report.subdivision_cost = params_.subcost * report.figures.triangles;
   const std::array<int, 3> limits = granularity_limits(id, report.figures, lo, hi);
   for (int a = 0; a < 3; ++a) {

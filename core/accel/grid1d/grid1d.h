@@ -183,6 +183,7 @@ class Grid1D final : public Accelerator {
   std::vector<Crossing> crossings(uint32_t voxel, const double lo[3], const double hi[3]) const;
   VoxelFigures figures_of(uint32_t voxel, const double lo[3], const double hi[3],
                           size_t crossing_count) const;
+  double mean_clipped_size(uint32_t voxel, int axis, const double lo[3], const double hi[3]) const;
   std::array<int, 3> granularity_limits(uint32_t voxel, const VoxelFigures& figures,
                                         const double lo[3], const double hi[3]) const;
   bool sort_into_cells(uint32_t voxel, int axis, int g, const double lo[3], const double hi[3],
