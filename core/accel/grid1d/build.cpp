@@ -50,19 +50,36 @@ struct CellRange {
   int32_t first, last;
 };
 
-// Spreads items over g cells given each item's cells: offsets (g + 1) and a flat list,
-// items in their original order within each cell.
-void fill_cells(std::span<const CellRange> ranges, std::span<const uint32_t> items, int g,
-                std::vector<uint32_t>& offsets, std::vector<uint32_t>& flat) {
-  offsets.assign(size_t(g) + 1, 0);
-  for (const CellRange& range : ranges)
-    for (int32_t c = range.first; c <= range.last; ++c) ++offsets[size_t(c) + 1];
-  for (int c = 0; c < g; ++c) offsets[c + 1] += offsets[c];
-  flat.resize(offsets[g]);
-  std::vector<uint32_t> cursor(offsets.begin(), offsets.end() - 1);
-  for (size_t i = 0; i < items.size(); ++i)
-    for (int32_t c = ranges[i].first; c <= ranges[i].last; ++c) flat[cursor[c]++] = items[i];
-}
+// Items spread over g cells, item i over the cells range(i) (first..last): each cell's
+// items are counted as the ranges are found (add), then laid out as offsets (g + 1) and a
+// flat list, items in their original order within each cell. The ranges are kept in
+// storage left uninitialised: every slot is written once by add.
+class CellSpread {
+ public:
+  CellSpread(size_t items, int g)
+      : ranges_(std::make_unique_for_overwrite<CellRange[]>(items)),
+        items_(items),
+        counts_(size_t(g) + 1, 0) {}
+  void add(size_t i, CellRange range) {
+    ranges_[i] = range;
+    for (int32_t c = range.first; c <= range.last; ++c) ++counts_[size_t(c) + 1];
+  }
+  void lay_out(std::span<const uint32_t> items, std::vector<uint32_t>& offsets,
+               std::vector<uint32_t>& flat) {
+    offsets = std::move(counts_);
+    const size_t g = offsets.size() - 1;
+    for (size_t c = 0; c < g; ++c) offsets[c + 1] += offsets[c];
+    flat.resize(offsets[g]);
+    std::vector<uint32_t> cursor(offsets.begin(), offsets.end() - 1);
+    for (size_t i = 0; i < items_; ++i)
+      for (int32_t c = ranges_[i].first; c <= ranges_[i].last; ++c) flat[cursor[c]++] = items[i];
+  }
+
+ private:
+  std::unique_ptr<CellRange[]> ranges_;
+  size_t items_;
+  std::vector<uint32_t> counts_;  // at c + 1: cell c's items
+};
 
 }  // namespace
 
@@ -499,32 +516,31 @@ bool Grid1D::sort_into_cells(uint32_t id, int axis, int g, const double lo[3], c
                            double(region.cell[axis] * uint64_t(g)), double(g - 1)};
 
   const std::span<const uint32_t> tris(&tri_indices_[voxel.tri_begin], voxel.tri_count);
-  std::vector<CellRange> ranges;
-  ranges.reserve(std::max(tris.size(), crossing.size()));
+  CellSpread tri_spread(tris.size(), g);
   bool separates = false;
-  for (const uint32_t tri : tris) {
-    const double* box = input_.box(tri);
+  for (size_t i = 0; i < tris.size(); ++i) {
+    const double* box = input_.box(tris[i]);
     const CellRange range{locate(std::max(box[axis], lo[axis])),
                           locate(std::min(box[axis + 3], hi[axis]))};
     separates |= range.first > 0 || range.last < g - 1;
-    ranges.push_back(range);
+    tri_spread.add(i, range);
   }
   if (!separates) return false;
   cut.axis = axis;
   cut.granularity = g;
-  fill_cells(ranges, tris, g, cut.tri_offsets, cut.tris);
+  tri_spread.lay_out(tris, cut.tri_offsets, cut.tris);
 
-  ranges.clear();
-  std::vector<uint32_t> rays;
-  rays.reserve(crossing.size());
-  for (const Crossing& c : crossing) {
+  CellSpread ray_spread(crossing.size(), g);
+  std::vector<uint32_t> rays(crossing.size());
+  for (size_t i = 0; i < crossing.size(); ++i) {
+    const Crossing& c = crossing[i];
     const SampleRay& s = sample_[c.ray];
     const int32_t c0 = locate(s.origin[axis] + c.t0 * s.dir[axis]);
     const int32_t c1 = locate(s.origin[axis] + c.t1 * s.dir[axis]);
-    ranges.push_back({std::min(c0, c1), std::max(c0, c1)});
-    rays.push_back(c.ray);
+    ray_spread.add(i, {std::min(c0, c1), std::max(c0, c1)});
+    rays[i] = c.ray;
   }
-  fill_cells(ranges, rays, g, cut.sample_offsets, cut.samples);
+  ray_spread.lay_out(rays, cut.sample_offsets, cut.samples);
   return true;
 }
 
