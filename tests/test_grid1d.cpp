@@ -478,5 +478,37 @@ TEST(Grid1DStates, CostReportReproducesTheCut) {
   EXPECT_GT(checked, 10u);
 }
 
+// The cost function's mean triangle sizes (§6.3), which the build measures only along the
+// axes it plans and the report along all three: at the root, over every usable triangle,
+// each one's padded extent on the axis clipped to the scene's padded box, as a direct sum
+// over the scene's own corners.
+TEST(Grid1DStates, CostReportMeanSizesAreTheClippedExtents) {
+  for (const Case& c : cases()) {
+    Grid1D grid(AccelParams{});
+    grid.build(c.scene);
+    const VoxelCostReport report = grid.cost_report(0);
+    const double padding = ClipBox(c.scene.bounds()).padding;
+    double lo[3], hi[3];
+    grid.voxel_box(0, lo, hi);
+    for (int a = 0; a < 3; ++a) {
+      double sum = 0.0;
+      size_t usable = 0;
+      for (uint32_t t = 0; t < c.scene.triangle_count(); ++t) {
+        if (c.scene.is_degenerate(t)) continue;
+        double low = INFINITY, high = -INFINITY;
+        for (int k = 0; k < 3; ++k) {
+          low = std::min(low, double(c.scene.vertex(t, k)[a]));
+          high = std::max(high, double(c.scene.vertex(t, k)[a]));
+        }
+        sum += std::max(0.0, std::min(high + padding, hi[a]) - std::max(low - padding, lo[a]));
+        ++usable;
+      }
+      ASSERT_GT(usable, 0u) << c.name;
+      EXPECT_NEAR(report.figures.mean_size[a], sum / double(usable), 1e-12 * (hi[a] - lo[a]))
+          << c.name << " axis " << a;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace gs
