@@ -474,6 +474,7 @@ Grid1D::Cut Grid1D::plan_cut(uint32_t id) const {
       plans.push_back(plan);
     }
   }
+  // The cost rule planned every axis: the cheapest whole cut is tried first.
   const auto whole = [&](const AxisPlan& p) {
     return p.cut_total + figures.rays * along_axis_cost(params_, figures, p.axis);
   };
