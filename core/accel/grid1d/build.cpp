@@ -57,13 +57,12 @@ struct CellRange {
 class CellSpread {
  public:
   CellSpread(size_t items, int g)
-      : ranges_(std::make_unique_for_overwrite<CellRange[]>(items)),
-        items_(items),
-        counts_(size_t(g) + 1, 0) {}
+      : ranges_(std::make_unique_for_overwrite<CellRange[]>(items)), counts_(size_t(g) + 1, 0) {}
   void add(size_t i, CellRange range) {
     ranges_[i] = range;
     for (int32_t c = range.first; c <= range.last; ++c) ++counts_[size_t(c) + 1];
   }
+  // `items` are the items added, in their order.
   void lay_out(std::span<const uint32_t> items, std::vector<uint32_t>& offsets,
                std::vector<uint32_t>& flat) {
     offsets = std::move(counts_);
@@ -71,13 +70,12 @@ class CellSpread {
     for (size_t c = 0; c < g; ++c) offsets[c + 1] += offsets[c];
     flat.resize(offsets[g]);
     std::vector<uint32_t> cursor(offsets.begin(), offsets.end() - 1);
-    for (size_t i = 0; i < items_; ++i)
+    for (size_t i = 0; i < items.size(); ++i)
       for (int32_t c = ranges_[i].first; c <= ranges_[i].last; ++c) flat[cursor[c]++] = items[i];
   }
 
  private:
   std::unique_ptr<CellRange[]> ranges_;
-  size_t items_;
   std::vector<uint32_t> counts_;  // at c + 1: cell c's items
 };
 
