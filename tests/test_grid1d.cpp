@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <set>
 #include <span>
 
@@ -325,6 +326,67 @@ TEST(Grid1DWalk, RaysGoFromTheStadiumsChainStraightIntoTheCluster) {
   }
   EXPECT_GT(descents, 0u);
   EXPECT_GT(below_chain, 0u);
+}
+
+// Rays that start on the scene's surfaces, as shadow rays and bounces do: from each
+// triangle's centre (and from its first corner) toward a point light above the stadium, and
+// back the way a reflection would go. They start deep in the structure, in cells whose
+// contents hold the start point, and the walk goes straight down to them. Nearest and any
+// hit get brute force's answers one at a time, in packets and on two threads; every descent
+// of a recorded walk to its first cell goes into a voxel holding the start point, and that
+// cell holds it too.
+TEST(Grid1DWalk, RaysStartingOnSurfacesGoStraightDownToTheirStart) {
+  const Scene scene = test::stadium_scene(2500);
+  const glm::vec3 light(4.0f, 30.0f, 6.0f);
+  std::vector<Ray> rays;
+  for (uint32_t t = 0; t < scene.triangle_count(); t += 3) {
+    const glm::vec3 centre = (scene.vertex(t, 0) + scene.vertex(t, 1) + scene.vertex(t, 2)) / 3.0f;
+    for (const glm::vec3& start : {centre, scene.vertex(t, 0)}) {
+      Ray shadow;
+      shadow.origin = start;
+      shadow.dir = light - start;
+      shadow.tmax = 1.0f;
+      Ray back = shadow;
+      back.dir = -shadow.dir;
+      back.tmax = std::numeric_limits<float>::infinity();
+      rays.insert(rays.end(), {shadow, back});
+    }
+  }
+  const std::vector<Hit> expected = brute_answers_hitting(scene, rays, rays.size() / 4);
+  Grid1D grid{AccelParams{}};
+  grid.build(scene);
+  EXPECT_EQ(test::count_mismatches("one at a time", test::trace_all(grid, rays, 1), expected), 0u);
+  EXPECT_EQ(test::count_any_hit_mismatches(rays, test::trace_all(grid, rays, 2, true), expected),
+            0u);
+  EXPECT_EQ(
+      test::count_mismatches("packets of 64", test::trace_all(grid, rays, 1, false, 64), expected),
+      0u);
+  EXPECT_EQ(
+      test::count_any_hit_mismatches(rays, test::trace_all(grid, rays, 1, true, 64), expected), 0u);
+  const auto holds = [&](uint32_t voxel, const glm::vec3& point) {
+    double lo[3], hi[3];
+    grid.voxel_box(voxel, lo, hi);
+    bool in = true;
+    for (int a = 0; a < 3; ++a) in &= lo[a] <= point[a] && point[a] <= hi[a];
+    return in;
+  };
+  const auto context = grid.make_context();
+  size_t deep_starts = 0;
+  for (size_t i = 0; i < rays.size(); i += 4 * 5) {  // centres' shadow rays
+    const std::optional<Walk> walk = grid.record_walk(rays[i], *context);
+    ASSERT_TRUE(walk.has_value());
+    ASSERT_FALSE(walk->cells.empty()) << "ray " << i;
+    const WalkCell& first = walk->cells.front();
+    EXPECT_EQ(first.entered_axis, -1) << "ray " << i;
+    EXPECT_TRUE(holds(first.voxel, rays[i].origin)) << "ray " << i;
+    EXPECT_GT(first.tests, 0u) << "ray " << i;
+    for (const WalkDescent& descent : first.descents)
+      EXPECT_TRUE(holds(descent.voxel, rays[i].origin))
+          << "ray " << i << " went down into voxel " << descent.voxel;
+    deep_starts += first.descents.size() >= 3;
+  }
+  EXPECT_GT(deep_starts, 100u);
+  RecordProperty("deep_starts", int(deep_starts));
 }
 
 // A chain of one-cell cuts that the depth cap ends in a leaf: the chain's top refers to that

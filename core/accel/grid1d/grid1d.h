@@ -138,6 +138,7 @@ class Grid1D final : public Accelerator {
   bool next_cell(Cursor& cursor, RayWalk& walk, Context& context) const;
   int64_t seek(uint32_t node, int64_t from, bool from_is_current, Cursor& cursor, RayWalk& walk,
                Context& context) const;
+  bool holds_start(uint32_t node, int64_t cell, const RayWalk& walk) const;
   void activate(int axis, uint32_t node, uint32_t state, RayWalk& walk) const;
   template <class Recorder>
   int64_t descend(uint32_t node, double t_cur, int entered_axis, RayWalk& walk, Context& context,

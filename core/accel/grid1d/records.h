@@ -163,14 +163,19 @@ struct Grid1D::RayWalk {
   double stop;        // stop_distance of the nearest hit so far (or of tmax)
   __m128 t_lo, t_hi;  // the content boxes' test interval: the box entry to `stop`, in float
   float tmax;
+  float start[3];  // where a ray starting inside the box starts (t0), in float: holds_start
   Hit best;
 };
 
 // Where the walk stands: the cell the ray is in and how it got there.
 struct Grid1D::Cursor {
+  // `entered` when the ray came through no wall: located by its point, and located at the
+  // start of a ray that starts inside the scene box (holds_start).
+  static constexpr int kLocated = -1;
+  static constexpr int kAtStart = -2;
   uint32_t ref;      // the cell's child reference
   double t;          // where the ray entered it (or was located in it)
-  int entered;       // the axis of the wall it came through; -1 when located by its point
+  int entered;       // the axis of the wall it came through, or kLocated, kAtStart
   uint32_t climbed;  // levels the step into it climbed (§5.3)
   uint32_t node;     // the node whose cell it is (kNone: the root voxel)
   uint32_t local;    // which of the node's cells

@@ -117,12 +117,19 @@ Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
   walk.t_lo = box_test_start(line);
   TraceCounters& counters = context.counters;
 
-  Cursor cursor{root_ref_.load(std::memory_order_acquire), line.t0, -1, 0, kNone, 0};
+  Cursor cursor{root_ref_.load(std::memory_order_acquire), line.t0, Cursor::kLocated, 0, kNone, 0};
+  // A ray that starts inside the scene box is located at its start point, which content
+  // boxes may hold (holds_start); one from outside enters at the box's wall, rarely inside one.
+  if (line.shift == double(ray.tmin)) {
+    cursor.entered = Cursor::kAtStart;
+    for (int a = 0; a < 3; ++a) walk.start[a] = float(line.origin[a] + line.t0 * line.dir[a]);
+  }
   do {
     if (!enter(cursor, walk, context, recorder)) continue;
     ++counters.traversal_steps;
     if constexpr (Recorder::kRecords)
-      recorder.cell(cursor_voxel(cursor), line.shift + cursor.t, cursor.entered, cursor.climbed);
+      recorder.cell(cursor_voxel(cursor), line.shift + cursor.t,
+                    std::max(cursor.entered, int(Cursor::kLocated)), cursor.climbed);
     const bool found = test_leaf<AnyHit>(leaf_of(cursor.ref, context), kernel_, prepared,
                                          {&boxes, walk.t_lo, walk.t_hi}, walk.ray_id, walk.tmax,
                                          walk.best, context.mailbox, counters, recorder);
@@ -174,7 +181,9 @@ bool Grid1D::enter(Cursor& cursor, RayWalk& walk, Context& context, Recorder& re
     }
     const uint32_t id = child_ref::payload(cursor.ref);
     const int64_t local = descend(id, cursor.t, cursor.entered, walk, context, recorder);
-    const int64_t cell = seek(id, local, true, cursor, walk, context);
+    const int64_t cell = cursor.entered == Cursor::kAtStart && holds_start(id, local, walk)
+                             ? local
+                             : seek(id, local, true, cursor, walk, context);
     if (cell < 0) {
       recorder.discard_descents();
       return false;
@@ -182,6 +191,21 @@ bool Grid1D::enter(Cursor& cursor, RayWalk& walk, Context& context, Recorder& re
     cursor.node = id, cursor.local = uint32_t(cell);
     cursor.ref = refs_[nodes_[id].children + uint32_t(cell)].load(std::memory_order_acquire);
   }
+}
+
+// Whether cell `cell` of node `id` has the ray's start point in its content box. The ray
+// then meets the box where it starts, and seek's test of the cell's group would say so: a
+// ray that starts on a surface deep in the structure (a shadow ray) goes down to it with a
+// look at one box per node instead of a group test. The point is rounded to float, so the
+// answer may be wrong by a rounding either way; that costs a look, never a hit (a skipped
+// box test never changes an answer, it only passes over cells).
+inline bool Grid1D::holds_start(uint32_t id, int64_t cell, const RayWalk& walk) const {
+  const float* group = &child_boxes_[nodes_[id].boxes + 6 * (uint32_t(cell) & ~3u)];
+  const uint32_t lane = uint32_t(cell) & 3u;
+  bool inside = true;
+  for (int a = 0; a < 3; ++a)
+    inside &= group[4 * a + lane] <= walk.start[a] && walk.start[a] <= group[4 * (3 + a) + lane];
+  return inside;
 }
 
 // Leaves the cursor's cell through its nearest wall (§5.3): on that axis, the node the ray's
