@@ -200,8 +200,8 @@ bool Grid1D::enter(Cursor& cursor, RayWalk& walk, Context& context, Recorder& re
 // answer may be wrong by a rounding either way; that costs a look, never a hit (a skipped
 // box test never changes an answer, it only passes over cells).
 inline bool Grid1D::holds_start(uint32_t id, int64_t cell, const RayWalk& walk) const {
-  const float* group = &child_boxes_[nodes_[id].boxes + 6 * (uint32_t(cell) & ~3u)];
-  const uint32_t lane = uint32_t(cell) & 3u;
+  const float* group = box_group(&child_boxes_[nodes_[id].boxes], uint32_t(cell));
+  const uint32_t lane = box_lane(uint32_t(cell));
   bool inside = true;
   for (int a = 0; a < 3; ++a)
     inside &= group[4 * a + lane] <= walk.start[a] && walk.start[a] <= group[4 * (3 + a) + lane];
