@@ -491,6 +491,43 @@ TEST(Grid1DPackets, EachWayWalksAsItsOwnPacket) {
   EXPECT_EQ(context->counters.packet_fallback_rays, 1u);
 }
 
+// A ray from far away (beyond WalkLine::kNearRange scene magnitudes) tests no content box,
+// so it walks alone: in a packet of 64 rays one way (+x, +y, -z, z dominant), 32 from above
+// the sphere in its soup and 32 from a million scene magnitudes away toward the same
+// points, the near ones walk as one packet and the far ones are traced one by one, and
+// every ray, nearest and any-hit, gets brute's answer.
+TEST(Grid1DPackets, FarRaysWalkAlone) {
+  const Scene scene = test::sphere_in_soup();
+  const Box box = scene.bounds();
+  const glm::vec3 size = box.hi - box.lo, centre = 0.5f * (box.lo + box.hi);
+  float magnitude = 0.0f;
+  for (int a = 0; a < 3; ++a)
+    magnitude = std::max({magnitude, std::fabs(box.lo[a]), std::fabs(box.hi[a])});
+  std::vector<Ray> rays(64);
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const float fx = float(i % 8) / 7.0f, fy = float(i / 8) / 7.0f;
+    const glm::vec3 target = box.lo + size * glm::vec3(0.3f + 0.4f * fx, 0.3f + 0.4f * fy, 0.5f);
+    const glm::vec3 from = i % 2 == 0 ? centre + size * glm::vec3(-0.5f, -0.5f, 1.5f)
+                                      : centre + glm::vec3(-1.0f, -1.0f, 3.0f) * (1e6f * magnitude);
+    rays[i].origin = from;
+    rays[i].dir = target - from;
+  }
+  const std::vector<Hit> expected = brute_answers_hitting(scene, rays, rays.size() / 4);
+  Grid1D grid{AccelParams{}};
+  grid.build(scene);
+  const auto context = grid.make_context();
+  std::vector<Hit> hits(rays.size()), any(rays.size());
+  const std::vector<uint64_t> keys(rays.size());
+  grid.trace_packet(rays, keys, hits, false, *context);
+  grid.trace_packet(rays, keys, any, true, *context);
+  EXPECT_EQ(test::count_mismatches("packet of 64", hits, expected), 0u);
+  EXPECT_EQ(test::count_any_hit_mismatches(rays, any, expected), 0u);
+  const TraceCounters& counters = context->counters;
+  EXPECT_EQ(counters.packets, 2u);
+  EXPECT_EQ(counters.packet_rays, 64u);
+  EXPECT_EQ(counters.packet_fallback_rays, 64u);
+}
+
 // Every ray that enters the scene box goes down through the (cut) root once, so the root's
 // traversal state is first used by exactly those rays: an independent count by clipping.
 TEST(Grid1DStates, RaysPerStateCountFirstUses) {

@@ -154,11 +154,9 @@ class Grid1D final : public Accelerator {
   template <bool AnyHit>
   void walk_together(uint64_t rays, int32_t kind, Hit* best, Context& context) const;
   template <bool AnyHit>
-  void visit(uint32_t ref, uint64_t rays, const double* t_in, const double* t_out,
-             PacketWalk& walk) const;
+  void visit(uint32_t ref, uint64_t rays, PacketWalk& walk) const;
   template <bool AnyHit>
-  void visit_node(uint32_t node, uint64_t rays, const double* t_in, const double* t_out,
-                  PacketWalk& walk) const;
+  void visit_node(uint32_t node, uint64_t rays, PacketWalk& walk) const;
   template <bool AnyHit>
   void search_leaf(const LeafView& leaf, uint64_t rays, PacketWalk& walk) const;
   template <bool AnyHit>

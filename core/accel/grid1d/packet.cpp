@@ -1,16 +1,18 @@
 // Rays walked together (docs/design.md §6.9): a tile's primary rays, or their shadow rays
 // toward one light, go down the 1D grid as one packet. In each subdivided voxel the packet
-// takes the cells its rays' segments cover, front to back along the voxel's axis (§4: a
-// voxel is one 1D array, so a packet's part of it is one interval of cells); each cell is
-// stepped into by the rays whose own segment crosses it (walls in double, widened by the
-// ray's slack) and whose own content-box test says its contents lie on the ray, each ray
-// as far as its own nearest hit allows. Leaves are searched ray by ray by the one leaf loop.
+// takes the voxel's cells front to back along its axis (§4: a voxel is one 1D array, and the
+// rays of a packet share their direction's signs, so this is every ray's own order of
+// cells), four at a time: the packet's bounds rule out the groups no ray can meet, and in
+// the others each ray not done is box-tested against each cell's content box, several rays
+// at a time; those that meet it go in. Leaves are searched ray by ray by the one leaf loop.
 //
-// Exact per ray: a ray is tested against every cell its padded segment crosses up to its
-// stop distance (a superset of what its single-ray walk needs), and the nearest hit (lowest
-// id on equal t) does not depend on the order of tests, so each answer is the single-ray
-// and brute-force answer bit for bit. Empty cells cost the packet one load, whatever its
-// size; a cell is built lazily when the first ray steps into it, as a single ray builds it.
+// Exact per ray: the point of a ray's nearest hit lies in one leaf's cell and in every cell
+// above it, and each of their content boxes holds it (docs/design.md §6.7), so the ray
+// meets them all and goes down to that leaf (perhaps to others too); the nearest hit
+// (lowest id on equal t) does not depend on the order of tests, so each answer is the
+// single-ray and brute-force answer bit for bit. Empty
+// cells cost the packet one load, whatever its size; a cell is built lazily when the first
+// ray goes into it, as a single ray builds it.
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -61,8 +63,10 @@ void Grid1D::trace_packet(std::span<const Ray> rays, std::span<const uint64_t> /
 // Rays going the same way (the same octant and dominant axis, so the same order of cells
 // and the same kernel axes) walk together: one group per way, in the order of their first
 // rays, so that a tile astride the boundary of two ways walks as two packets. A way taken by
-// fewer than kMinPacketRays rays is traced a ray at a time by the single-ray walk. A ray
-// keeps its number in the packet: masks and lanes are indexed by it.
+// fewer than kMinPacketRays rays is traced a ray at a time by the single-ray walk, and so is
+// a ray from far away (WalkLine::far): it tests no content box, so in a packet it would go
+// into every cell; its single walk crosses only the cells on its line. A ray keeps its
+// number in the packet: masks and lanes are indexed by it.
 template <bool AnyHit>
 void Grid1D::trace_together(std::span<const Ray> rays, std::span<Hit> hits,
                             Context& context) const {
@@ -70,9 +74,9 @@ void Grid1D::trace_together(std::span<const Ray> rays, std::span<Hit> hits,
   const auto count = uint32_t(rays.size());
   for (uint32_t i = 0; i < count; ++i) lines.set_ray(i, rays[i]);
   const uint64_t started = lane_ops_.start(input_.clip, count, lines);
-  uint64_t together = 0, single = 0;
   Hit best[kMaxRays];
-  for (uint64_t left = started; left != 0;) {
+  uint64_t together = 0, single = started & lines.far;
+  for (uint64_t left = started & ~lines.far; left != 0;) {
     const int32_t kind = lines.kind[std::countr_zero(left)];  // octant and kz
     uint64_t group = 0;
     for_each_ray(left, [&](uint32_t i) { group |= uint64_t(lines.kind[i] == kind) << i; });
@@ -117,16 +121,16 @@ void Grid1D::walk_together(uint64_t rays, int32_t kind, Hit* best, Context& cont
       context, best, uint32_t(std::popcount(rays)), context.packet_mailbox.next_packet(), {}, 0};
   for (int a = 0; a < 3; ++a) walk.step[a] = kind >> a & 1 ? -1 : 1;
   for_each_ray(rays, [&](uint32_t i) { best[i] = Hit{}; });
-  visit<AnyHit>(root_ref_.load(std::memory_order_acquire), rays, lines.t0, lines.t1, walk);
+  visit<AnyHit>(root_ref_.load(std::memory_order_acquire), rays, walk);
   ++context.counters.packets;
   context.counters.packet_rays += walk.count;
 }
 
-// Takes `rays` (a mask of the packet's rays, each inside the cell `ref` from t_in to t_out
-// on its line) into the cell: builds it if no ray has, and searches or walks it.
+// Takes `rays` (a mask of the packet's rays, each meeting the content box of the cell
+// `ref`, or starting in the scene box for the root) into the cell: builds it if no ray has,
+// and searches or walks it.
 template <bool AnyHit>
-void Grid1D::visit(uint32_t ref, uint64_t rays, const double* t_in, const double* t_out,
-                   PacketWalk& walk) const {
+void Grid1D::visit(uint32_t ref, uint64_t rays, PacketWalk& walk) const {
   for (;;) {
     switch (child_ref::kind(ref)) {
       case child_ref::kUnbuilt: {
@@ -144,83 +148,45 @@ void Grid1D::visit(uint32_t ref, uint64_t rays, const double* t_in, const double
       case child_ref::kEmpty:
         return;
       case child_ref::kNode:
-        visit_node<AnyHit>(child_ref::payload(ref), rays, t_in, t_out, walk);
+        visit_node<AnyHit>(child_ref::payload(ref), rays, walk);
         return;
     }
   }
 }
 
-// The cells of node `id` the rays cover, front to back (§5.3's order, for the packet's
-// direction on the node's axis): per ray the cells between where its point lies at t_in and
-// at t_out, one more each side (point location rounds; the walls below decide). Per cell,
-// unless the packet's bounds rule its content box out (RayBoxBounds, for the cell's group of
-// four at once), the rays that cover it are box-tested several at a time against it, and
-// those that meet it step in between its walls (each wall distance as the single walk's
-// traversal state computes it, t_origin + I * t_width, widened by the slack) if they enter
-// before their stop distance.
+// The cells of node `id`, front to back along its axis in the packet's direction (§5.3's
+// order for every ray of the packet), four at a time. A group whose four content boxes the
+// packet's bounds rule out (RayBoxBounds) costs one test for the whole packet; an empty cell
+// one load. Otherwise the rays not done are box-tested against the cell's content box
+// several at a time, and those that meet it go in.
 template <bool AnyHit>
-void Grid1D::visit_node(uint32_t id, uint64_t rays, const double* t_in, const double* t_out,
-                        PacketWalk& walk) const {
+void Grid1D::visit_node(uint32_t id, uint64_t rays, PacketWalk& walk) const {
   const Node& node = nodes_[id];
-  const int b = node.axis;
-  const int64_t g = node.granularity, first = node.first_cell;
-  const StateInfo& info = states_[node.state];
-  const PacketLines& lines = walk.context.packet_lines;
-  PacketCover cover;
-  lane_ops_.cover(lines, {b, info.origin, info.scale, info.width, double(first), double(g - 1)},
-                  rays, t_in, t_out, cover);
+  const uint32_t g = node.granularity;
+  const bool ascending = walk.step[node.axis] > 0;
   const float* boxes = &child_boxes_[node.boxes];
   const RayBoxLanes& box_lanes = walk.context.ray_box_lanes;
-  alignas(64) double child_in[kPacketLanes], child_out[kPacketLanes];
   TraceCounters& counters = walk.context.counters;
-  // Which rays cover the k-th cell in the packet's order: over a short run of cells, from
-  // where each ray's cells begin and end in it, kept as the cells go by; otherwise per cell.
-  const int64_t cover_lo = cover.cover_lo, cover_hi = cover.cover_hi;
-  const int64_t run = cover_hi - cover_lo + 1;
-  const bool by_events = run <= int64_t(kMaxRays);
-  uint64_t begins[kMaxRays + 1], ends[kMaxRays + 1];
-  if (by_events) {
-    std::fill(begins, begins + run + 1, uint64_t{0});
-    std::fill(ends, ends + run + 1, uint64_t{0});
-    for_each_ray(rays, [&](uint32_t r) {
-      const int64_t from = walk.step[b] > 0 ? cover.lo[r] - cover_lo : cover_hi - cover.hi[r];
-      begins[from] |= uint64_t{1} << r,
-          ends[from + cover.hi[r] - cover.lo[r] + 1] |= uint64_t{1} << r;
-    });
-  }
-  uint64_t covering = 0;
-  // The bounds test of the cells' group of four content boxes (RayBoxBounds), made when the
-  // first of them is reached.
-  int64_t bounded_group = -1;
-  uint32_t group_may_cross = 0;
-  for (int64_t k = 0; k < run; ++k) {
-    const int64_t cell = walk.step[b] > 0 ? cover_lo + k : cover_hi - k;
-    if (by_events) covering = (covering | begins[k]) & ~ends[k];
-    const uint32_t ref = refs_[node.children + uint32_t(cell)].load(std::memory_order_acquire);
-    if (child_ref::kind(ref) == child_ref::kEmpty) continue;
-    if (!by_events) {
-      covering = 0;
-      for_each_ray(rays, [&](uint32_t r) {
-        covering |= uint64_t(cell >= cover.lo[r] && cell <= cover.hi[r]) << r;
-      });
+  const uint32_t groups = (g + 3) / 4;
+  for (uint32_t k = 0; k < groups; ++k) {
+    const uint32_t first = 4 * (ascending ? k : groups - 1 - k);
+    const float* group = box_group(boxes, first);
+    const uint32_t cells = g - first < 4 ? (1u << (g - first)) - 1 : 15u;
+    for (uint32_t left = box_lanes.may_cross4(group, 4, 0) & cells; left != 0;) {
+      const uint32_t lane =
+          ascending ? uint32_t(std::countr_zero(left)) : 31u - uint32_t(std::countl_zero(left));
+      left &= ~(1u << lane);
+      const uint32_t ref = refs_[node.children + first + lane].load(std::memory_order_acquire);
+      if (child_ref::kind(ref) == child_ref::kEmpty) continue;
+      const uint64_t candidates = rays & ~walk.done;
+      if (candidates == 0) return;
+      uint64_t meeting = 0;
+      if (!kernel_.rays_crossed(box_lanes, group, 4, lane, 1, candidates, &meeting)) continue;
+      ++counters.packet_steps;
+      counters.packet_step_rays += uint64_t(std::popcount(meeting));
+      counters.packet_step_slots += walk.count;
+      visit<AnyHit>(ref, meeting, walk);
     }
-    const uint64_t candidates = covering & ~walk.done;
-    if (candidates == 0) continue;
-    const float* group = box_group(boxes, uint32_t(cell));
-    if (cell >> 2 != bounded_group)
-      bounded_group = cell >> 2, group_may_cross = box_lanes.may_cross4(group, 4, 0);
-    if (!(group_may_cross >> box_lane(uint32_t(cell)) & 1)) continue;
-    uint64_t meeting = 0;
-    if (!kernel_.rays_crossed(box_lanes, group, 4, box_lane(uint32_t(cell)), 1, candidates,
-                              &meeting))
-      continue;
-    const uint64_t entering = lane_ops_.enter(lines, b, cover, double(first + cell), meeting, t_in,
-                                              t_out, child_in, child_out);
-    if (entering == 0) continue;
-    ++counters.packet_steps;
-    counters.packet_step_rays += uint64_t(std::popcount(entering));
-    counters.packet_step_slots += walk.count;
-    visit<AnyHit>(ref, entering, child_in, child_out, walk);
   }
 }
 
@@ -260,7 +226,7 @@ void Grid1D::search_leaf(const LeafView& leaf, uint64_t rays, PacketWalk& walk) 
   const RayLanes& lanes = context.ray_lanes;
   for_each_ray(improved, [&](uint32_t r) {
     lines.stop[r] = walk_stop(lanes.tmax[r], lines.slack[r], lines.shift[r]);
-    box_lanes.set_end(r, box_test_end(lines.far >> r & 1, lines.shift[r], lines.stop[r]));
+    box_lanes.set_end(r, box_test_end(false, lines.shift[r], lines.stop[r]));
   });
 }
 

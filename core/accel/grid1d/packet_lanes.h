@@ -1,9 +1,9 @@
 // The packet walk's per-ray arithmetic (packet.cpp), a packet's rays several at a time in
-// SIMD lanes: each ray's start (clipped line, kernel and box-test set-up), where each ray
-// lies in a node's array, and which rays step into a cell between its walls. Every lane performs
-// the scalar operations in the same order (no fused multiply-adds), so each ray's figures do not
-// depend on the instruction set. One template (packet_lanes_impl.h) compiled per instruction set,
-// picked with the leaf kernel's instruction set (core/geometry/leaf.h).
+// SIMD lanes: each ray's start (validity, clipped line, kind) and its kernel and box-test
+// set-up. Every lane performs the scalar operations in the same order (no fused
+// multiply-adds), so each ray's figures do not depend on the instruction set. One template
+// (packet_lanes_impl.h) compiled per instruction set, picked with the leaf kernel's
+// instruction set (core/geometry/leaf.h).
 #pragma once
 #include <cstdint>
 
@@ -27,7 +27,7 @@ struct PacketLines {
   // Their lines.
   alignas(64) double origin[3][kPacketLanes] = {}, dir[3][kPacketLanes] = {},
                      inv_dir[3][kPacketLanes] = {};
-  alignas(64) double shift[kPacketLanes] = {}, t0[kPacketLanes] = {}, t1[kPacketLanes] = {};
+  alignas(64) double shift[kPacketLanes] = {}, t0[kPacketLanes] = {};
   alignas(64) double slack[kPacketLanes] = {}, stop[kPacketLanes] = {};
   // The octant of the direction (bit a: component a's sign bit) and, times 8, the kernel's
   // axis kz (PreparedRay): rays of one kind take cells in one order with one kernel layout.
@@ -51,39 +51,9 @@ using StartRays = uint64_t (*)(const ClipBox& box, uint32_t count, PacketLines& 
 using PrepareRays = void (*)(PacketLines& lines, uint64_t rays, const int axes[3],
                              RayLanes& kernel_lanes, RayBoxLanes& box_lanes);
 
-// A node's cells on the global grid of its traversal state: wall I of the grid lies at
-// origin + I * width; the node's cell c is the grid's slab first + c, c in 0 .. last.
-struct NodeCells {
-  int axis;
-  double origin, scale, width;
-  double first, last;
-};
-
-// Where the rays are in a node: per ray the distance to the grid's wall 0 and between walls
-// (as the single walk's traversal state has them), and the cells lo .. hi its segment
-// covers, one more each side (point location rounds; the walls decide).
-struct PacketCover {
-  alignas(64) double t_origin[kPacketLanes], t_width[kPacketLanes];
-  alignas(64) int32_t lo[kPacketLanes], hi[kPacketLanes];
-  int32_t cover_lo, cover_hi;  // the union of the rays' lo .. hi
-};
-
-// Fills `cover` for the rays of `rays` (bits), each inside the node from t_in to t_out on
-// its line. Reads and writes whole lane groups that hold one of them.
-using CoverCells = void (*)(const PacketLines& lines, const NodeCells& node, uint64_t rays,
-                            const double* t_in, const double* t_out, PacketCover& cover);
-// Of `rays`, those whose segment t_in .. t_out crosses the cell between walls `wall` and
-// `wall` + 1 of the cover's grid (widened by the ray's slack) before the ray's stop
-// distance; their part of the segment in child_in .. child_out.
-using EnterCell = uint64_t (*)(const PacketLines& lines, int axis, const PacketCover& cover,
-                               double wall, uint64_t rays, const double* t_in, const double* t_out,
-                               double* child_in, double* child_out);
-
 struct PacketLaneOps {
   StartRays start;
   PrepareRays prepare;
-  CoverCells cover;
-  EnterCell enter;
 };
 PacketLaneOps packet_lane_ops(Isa isa);
 

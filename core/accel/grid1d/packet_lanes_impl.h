@@ -52,8 +52,6 @@ struct LaneMath {
   static Real splat(double x) { return Real{} + x; }
   static Real min(Real a, Real b) { return b < a ? b : a; }  // std::min(a, b)
   static Real max(Real a, Real b) { return a < b ? b : a; }  // std::max(a, b)
-  static Int min(Int a, Int b) { return b < a ? b : a; }
-  static Int max(Int a, Int b) { return a < b ? b : a; }
   static Float min(Float a, Float b) { return b < a ? b : a; }
   static Float max(Float a, Float b) { return a < b ? b : a; }
   // Lane i set where bit i of `group` is.
@@ -61,11 +59,6 @@ struct LaneMath {
     Int bit{};
     for (uint32_t i = 0; i < kWidth; ++i) bit[i] = int32_t(1) << i;
     return (bit & int32_t(group)) != 0;
-  }
-  static Mask wide_lanes_of(uint64_t group) {
-    Mask bit{};
-    for (uint32_t i = 0; i < kWidth; ++i) bit[i] = int64_t(1) << i;
-    return (bit & int64_t(group)) != 0;
   }
 
   // next_float_up, float_down and float_up (core/geometry/clip_box.h), lane by lane.
@@ -142,7 +135,7 @@ struct LaneMath {
         store(&l.inv_dir[a][first], inv_dir[a]);
       }
       store(&l.shift[first], shift), store(&l.slack[first], slack);
-      store(&l.t0[first], t0), store(&l.t1[first], t1);
+      store(&l.t0[first], t0);
       // The kind: the octant, and PreparedRay's kz (the largest magnitude, x before y before z).
       const Real mx = fabs(d[0]), my = fabs(d[1]), mz = fabs(d[2]);
       const Mask two = Mask{} + 2;
@@ -158,6 +151,7 @@ struct LaneMath {
   }
 
   // PreparedRay, RayBoxes, box_test_start and set_stop (grid1d's records.h) for the packet.
+  // No ray of `rays` is far (WalkLine::far): far rays walk alone (Grid1D::trace_together).
   static void prepare(PacketLines& l, uint64_t rays, const int axes[3], RayLanes& kernel_lanes,
                       RayBoxLanes& box_lanes) {
     const float infinity = std::numeric_limits<float>::infinity();
@@ -176,12 +170,10 @@ struct LaneMath {
       const Float tmax = load_float(&l.tmax[first]);
       store(kernel_lanes.tmin + first, load_float(&l.tmin[first]));
       store(kernel_lanes.tmax + first, tmax);
-      // Far rays test no box: every box crossed (RayBoxes without culling).
-      const Int far = narrow(wide_lanes_of(l.far >> first));
       const Int in = lanes_of(group);
       for (int a = 0; a < 3; ++a) {
-        const Float origin = far ? Float{} : load_float(&l.ray_origin[a][first]);
-        const Float inv_dir = far ? Float{} : 1.0f / load_float(&l.ray_dir[a][first]);
+        const Float origin = load_float(&l.ray_origin[a][first]);
+        const Float inv_dir = 1.0f / load_float(&l.ray_dir[a][first]);
         store(&box_lanes.origin[a][first], origin);
         store(&box_lanes.inv_dir[a][first], inv_dir);
         lo[a] = in ? min(lo[a], origin) : lo[a], hi[a] = in ? max(hi[a], origin) : hi[a];
@@ -191,8 +183,8 @@ struct LaneMath {
       const Real stop =
           __builtin_convertvector(next_float_up(tmax), Real) + load(&l.slack[first]) - shift;
       store(&l.stop[first], stop);
-      const Float t0 = far ? Float{} - infinity : float_down(shift + load(&l.t0[first]));
-      const Float t1 = far ? Float{} + infinity : float_up(shift + stop);
+      const Float t0 = float_down(shift + load(&l.t0[first]));
+      const Float t1 = float_up(shift + stop);
       store(&box_lanes.t0[first], t0);
       store(&box_lanes.t1[first], t1);
       t0_lo = in ? min(t0_lo, t0) : t0_lo, t1_hi = in ? max(t1_hi, t1) : t1_hi;
@@ -231,67 +223,7 @@ struct LaneMath {
     }
   }
 
-  // The node's cell where a ray's point lies: clamped to the node's cells, then truncated
-  // (Grid1D::descend's location).
-  static Int locate(Real p, const NodeCells& node) {
-    const Real cell = (p - node.origin) * node.scale - node.first;
-    const Real last = splat(node.last);
-    // std::clamp's result for every number; a NaN (a lane no ray of the mask holds) goes to
-    // cell 0, so that the integer arithmetic after it cannot overflow.
-    const Real clamped = cell >= 0.0 ? (cell < last ? cell : last) : splat(0.0);
-    return __builtin_convertvector(clamped, Int);
-  }
-
-  static void cover(const PacketLines& lines, const NodeCells& node, uint64_t rays,
-                    const double* t_in, const double* t_out, PacketCover& cover) {
-    const int b = node.axis;
-    const int32_t last = int32_t(node.last);
-    Int cover_lo = Int{} + (last + 1), cover_hi = Int{} - 1;
-    for_each_group(rays, [&](uint32_t first, uint32_t group) {
-      const Real origin = load(&lines.origin[b][first]), dir = load(&lines.dir[b][first]);
-      const Real inv_dir = load(&lines.inv_dir[b][first]);
-      store(&cover.t_origin[first], (node.origin - origin) * inv_dir);
-      store(&cover.t_width[first], node.width * inv_dir);
-      const Int from = locate(origin + load(t_in + first) * dir, node);
-      const Int to = locate(origin + load(t_out + first) * dir, node);
-      const Int lo = max(min(from, to) - 1, Int{});
-      const Int hi = min(max(from, to) + 1, Int{} + last);
-      std::memcpy(&cover.lo[first], &lo, sizeof lo);
-      std::memcpy(&cover.hi[first], &hi, sizeof hi);
-      const Int in = lanes_of(group);
-      cover_lo = min(cover_lo, in ? lo : cover_lo);
-      cover_hi = max(cover_hi, in ? hi : cover_hi);
-    });
-    cover.cover_lo = last + 1, cover.cover_hi = -1;
-    for (uint32_t i = 0; i < kWidth; ++i) {
-      cover.cover_lo = std::min(cover.cover_lo, cover_lo[i]);
-      cover.cover_hi = std::max(cover.cover_hi, cover_hi[i]);
-    }
-  }
-
-  static uint64_t enter(const PacketLines& lines, int axis, const PacketCover& cover, double wall,
-                        uint64_t rays, const double* t_in, const double* t_out, double* child_in,
-                        double* child_out) {
-    uint64_t entering = 0;
-    for_each_group(rays, [&](uint32_t first, uint32_t /*group*/) {
-      const Real t_origin = load(&cover.t_origin[first]), t_width = load(&cover.t_width[first]);
-      const Real wall_a = t_origin + wall * t_width;
-      const Real wall_b = t_origin + (wall + 1.0) * t_width;
-      const Real slack = load(&lines.slack[first]);
-      Real enter = load(t_in + first), exit = load(t_out + first);
-      // A ray parallel to the axis stays in its segment (its walls are not numbers).
-      const Mask moves = load(&lines.dir[axis][first]) != 0.0;
-      enter = moves ? max(enter, min(wall_a, wall_b) - slack) : enter;
-      exit = moves ? min(exit, max(wall_a, wall_b) + slack) : exit;
-      store(child_in + first, enter);
-      store(child_out + first, exit);
-      const Mask steps = (enter <= exit) & (enter <= load(&lines.stop[first]));
-      entering |= uint64_t(Lanes::bits(steps)) << first;
-    });
-    return entering & rays;
-  }
-
-  static PacketLaneOps ops() { return {start, prepare, cover, enter}; }
+  static PacketLaneOps ops() { return {start, prepare}; }
 };
 
 }  // namespace
