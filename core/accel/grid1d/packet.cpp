@@ -74,8 +74,7 @@ void Grid1D::trace_together(std::span<const Ray> rays, std::span<Hit> hits,
   const auto count = uint32_t(rays.size());
   for (uint32_t i = 0; i < count; ++i) lines.set_ray(i, rays[i]);
   const uint64_t started = lane_ops_.start(input_.clip, count, lines);
-  Hit best[kMaxRays];
-  uint64_t together = 0, single = started & lines.far;
+  uint64_t single = started & lines.far;
   for (uint64_t left = started & ~lines.far; left != 0;) {
     const int32_t kind = lines.kind[std::countr_zero(left)];  // octant and kz
     uint64_t group = 0;
@@ -85,18 +84,14 @@ void Grid1D::trace_together(std::span<const Ray> rays, std::span<Hit> hits,
       single |= group;
       continue;
     }
-    walk_together<AnyHit>(group, kind, best, context);
-    together |= group;
+    walk_together<AnyHit>(group, kind, hits.data(), context);
   }
   context.counters.packet_fallback_rays += uint64_t(std::popcount(single));
-  for (uint32_t i = 0; i < count; ++i) {
-    if (together >> i & 1)
-      hits[i] = best[i];
-    else if (single >> i & 1)
-      hits[i] = AnyHit ? any_hit(rays[i], context) : intersect(rays[i], context);
-    else
-      hits[i] = Hit{};
-  }
+  for_each_ray(single, [&](uint32_t i) {
+    hits[i] = AnyHit ? any_hit(rays[i], context) : intersect(rays[i], context);
+  });
+  const uint64_t all = count == 64 ? ~uint64_t{0} : (uint64_t{1} << count) - 1;
+  for_each_ray(all & ~started, [&](uint32_t i) { hits[i] = Hit{}; });
 }
 
 // Walks `rays` (started, all of one kind) as one packet from the root, leaving each ray's
