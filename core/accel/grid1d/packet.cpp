@@ -10,9 +10,9 @@
 // above it, and each of their content boxes holds it (docs/design.md §6.7), so the ray
 // meets them all and goes down to that leaf (perhaps to others too); the nearest hit
 // (lowest id on equal t) does not depend on the order of tests, so each answer is the
-// single-ray and brute-force answer bit for bit. Empty
-// cells cost the packet one load, whatever its size; a cell is built lazily when the first
-// ray goes into it, as a single ray builds it.
+// single-ray and brute-force answer bit for bit. Empty cells cost the packet one load,
+// whatever its size; a cell is built lazily when the first ray goes into it, as a single
+// ray builds it.
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -166,8 +166,9 @@ void Grid1D::visit_node(uint32_t id, uint64_t rays, PacketWalk& walk) const {
   for (uint32_t k = 0; k < groups; ++k) {
     const uint32_t first = 4 * (ascending ? k : groups - 1 - k);
     const float* group = box_group(boxes, first);
-    const uint32_t cells = g - first < 4 ? (1u << (g - first)) - 1 : 15u;
+    const uint32_t cells = g - first < 4 ? (1u << (g - first)) - 1 : 15u;  // none past g
     for (uint32_t left = box_lanes.may_cross4(group, 4, 0) & cells; left != 0;) {
+      // The group's nearest cell left, in the packet's direction.
       const uint32_t lane =
           ascending ? uint32_t(std::countr_zero(left)) : 31u - uint32_t(std::countl_zero(left));
       left &= ~(1u << lane);
