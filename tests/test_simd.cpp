@@ -232,6 +232,85 @@ TEST(BoxTest, NeverReportsAMissForACrossing) {
   EXPECT_GT(crossings, boxes_tested / 4);
 }
 
+// The clip box's float test (ClipBox::misses_surely) turns a ray away only when its
+// segment [tmin, tmax] misses the box: never for a ray whose exact segment (long double)
+// meets the box, nor for one the double clip (clip_segment) lets in; rays aimed at the
+// box's faces, edges and corners, so that many graze it, from before, inside and beyond it,
+// with zero and -0 components, short segments, tiny components (whose 1 / dir overflows in
+// float) and origins beyond the near range (never turned away). And it does turn away
+// every ray that misses the box by a clear margin.
+TEST(ClipBoxTest, FloatTestTurnsAwayOnlyRaysThatMissTheBox) {
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  uint64_t meeting = 0, clear_misses = 0, turned_away = 0, far = 0;
+  for (int k = 0; k < 30000; ++k) {
+    const float scale = k % 3 == 0 ? 1e-3f : k % 3 == 1 ? 1.0f : 1e4f;
+    Box scene;
+    for (int a = 0; a < 3; ++a) {
+      const float x = scale * unit(rng), y = scale * unit(rng);
+      scene.lo[a] = std::min(x, y), scene.hi[a] = k % 19 == 0 ? std::min(x, y) : std::max(x, y);
+    }
+    const ClipBox box(scene);
+    // Aimed at a point of a face or an edge of the clip box itself (its double faces).
+    double target[3];
+    for (int a = 0; a < 3; ++a) target[a] = (k >> a & 1) ? box.lo[a] : box.hi[a];
+    target[k % 3] = box.lo[k % 3] + (box.hi[k % 3] - box.lo[k % 3]) * (0.5 + 0.5 * unit(rng));
+    Ray ray;
+    for (int a = 0; a < 3; ++a) {
+      ray.origin[a] = float(target[a]) + scale * 3.0f * unit(rng);
+      ray.dir[a] =
+          float(target[a]) - ray.origin[a] + (k % 4 == 0 ? scale * 0.3f * unit(rng) : 0.0f);
+    }
+    if (k % 11 == 0) ray.dir[k % 3] = 0.0f, ray.origin[k % 3] = float(target[k % 3]);
+    if (k % 13 == 0) ray.dir[(k + 1) % 3] = -0.0f;
+    if (k % 23 == 0) ray.dir[(k + 2) % 3] = 1e-41f;  // 1 / dir overflows in float
+    if (k % 29 == 0) ray.origin *= 2e4f;             // beyond the near range
+    if (ray.dir == glm::vec3(0.0f)) continue;
+    ray.tmin = k % 5 == 0 ? 0.5f : 0.0f;
+    ray.tmax = k % 7 == 0 ? 0.999999f : INFINITY;
+    const bool turned = box.misses_surely(ray);
+    turned_away += turned;
+    double t0 = ray.tmin, t1 = ray.tmax;
+    const double origin[3] = {ray.origin.x, ray.origin.y, ray.origin.z};
+    const double dir[3] = {ray.dir.x, ray.dir.y, ray.dir.z};
+    if (clip_segment(origin, dir, box.lo, box.hi, t0, t1)) {
+      ASSERT_FALSE(turned) << "ray " << k;
+    }
+    const bool beyond = std::fabs(double(ray.origin.x)) > 1e4 * box.magnitude ||
+                        std::fabs(double(ray.origin.y)) > 1e4 * box.magnitude ||
+                        std::fabs(double(ray.origin.z)) > 1e4 * box.magnitude;
+    if (beyond) {
+      ++far;
+      ASSERT_FALSE(turned) << "ray " << k;
+    }
+    const float faces[6] = {float(box.lo[0]), float(box.lo[1]), float(box.lo[2]),
+                            float(box.hi[0]), float(box.hi[1]), float(box.hi[2])};
+    // The exact test against the box's float faces, which hold the double box within an
+    // ulp: a ray that meets them, or passes within 1e-6 of the box's size, is let in.
+    if (segment_meets_box(ray, faces, ray.tmin, ray.tmax)) {
+      ++meeting;
+      ASSERT_FALSE(turned) << "ray " << k;
+    }
+    // A ray with no zero or tiny component that misses the box grown by 1e-3 of its size
+    // on every side is turned away: the test's margin is about 5e-7 of the distances.
+    float grown[6];
+    for (int a = 0; a < 3; ++a) {
+      const float margin = 1e-3f * std::max(faces[a + 3] - faces[a], scale);
+      grown[a] = faces[a] - margin, grown[a + 3] = faces[a + 3] + margin;
+    }
+    const bool plain = !beyond && std::min({std::fabs(ray.dir.x), std::fabs(ray.dir.y),
+                                            std::fabs(ray.dir.z)}) > 1e-30f;
+    if (plain && !segment_meets_box(ray, grown, ray.tmin, ray.tmax)) {
+      ++clear_misses;
+      EXPECT_TRUE(turned) << "ray " << k;
+    }
+  }
+  EXPECT_GT(meeting, 5000u);
+  EXPECT_GT(far, 500u);
+  EXPECT_GT(clear_misses, 3000u);
+  EXPECT_GE(turned_away, clear_misses);
+}
+
 // One ray against a run of a leaf's boxes, 4, 8 or 16 at a time (Kernel::boxes_crossed, by
 // every kernel this CPU has), says for every box what the four-at-a-time test
 // (RayBoxes::crossed4) says: runs of 1 to 64 boxes from every offset of blocks of up to 80,

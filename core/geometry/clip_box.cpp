@@ -27,7 +27,11 @@ ClipBox::ClipBox(const Box& scene) : empty(scene.empty()) {
     magnitude =
         std::max({magnitude, std::fabs(double(scene.lo[a])), std::fabs(double(scene.hi[a]))});
   padding = kPadding * magnitude;
-  for (int a = 0; a < 3; ++a) lo[a] = scene.lo[a] - padding, hi[a] = scene.hi[a] + padding;
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = scene.lo[a] - padding, hi[a] = scene.hi[a] + padding;
+    lo_float[a] = float_down(lo[a]), hi_float[a] = float_up(hi[a]);
+  }
+  near_range = float_down(WalkLine::kNearRange * magnitude);
 }
 
 double ClipBox::min_cell_width(const double lo[3], const double hi[3]) const {

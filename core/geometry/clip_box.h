@@ -3,10 +3,12 @@
 #pragma once
 #include <algorithm>
 #include <bit>
+#include <cfloat>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 
+#include "core/geometry/box_test.h"
 #include "core/geometry/ray.h"
 #include "core/scene/scene.h"
 
@@ -35,15 +37,23 @@ struct ClipBox {
   static constexpr double kMinCellUlps = 256.0;
   static constexpr double kMinCellPaddings = 4.0;
 
+  // The box rounded outward to float (lane 3 unused), and the largest origin coordinate
+  // magnitude the float test below holds for (WalkLine::kNearRange times the magnitude):
+  // for misses_surely.
+  alignas(16) float lo_float[4] = {}, hi_float[4] = {};
+  float near_range = 0.0f;
+
   ClipBox() = default;
   explicit ClipBox(const Box& scene);
   // The narrowest useful cell in the box lo..hi.
   double min_cell_width(const double lo[3], const double hi[3]) const;
   // The ray's [tmin, tmax] clipped to the box; false for a ray that misses it or is invalid.
   // `inv_dir` receives 1 / dir per axis (infinite for a zero component), for the caller's
-  // walk and kernel.
+  // walk and kernel. Most camera rays framing a scene from outside miss the box (72% of
+  // lumpy's, 55% of the bunny's): a float test turns most of them away before the double
+  // clip.
   bool clip(const Ray& ray, double& t0, double& t1, double inv_dir[3]) const {
-    if (empty || !ray_is_valid(ray)) return false;
+    if (empty || misses_surely(ray) || !ray_is_valid(ray)) return false;
     const float* origin = &ray.origin.x;
     const float* dir = &ray.dir.x;
     t0 = ray.tmin, t1 = ray.tmax;
@@ -63,6 +73,46 @@ struct ClipBox {
   bool clip(const Ray& ray, double& t0, double& t1) const {
     double inv_dir[3];
     return clip(ray, t0, t1, inv_dir);
+  }
+
+  // True only when the ray's segment [tmin, tmax] misses the box, so that no structure can
+  // report a hit on it (docs/design.md §6.2): RayBoxes' slab test (Ize's widened exits) with
+  // the three axes in three lanes and tmin, tmax in the fourth, against the box rounded
+  // outward to float, for rays from outside the box. About 45 instructions where the double
+  // clip takes about 130. It holds
+  // where the content boxes' test does: for origins within near_range (the kernel's line
+  // follows the ray's own), and where no distance overflows or underflows (an infinite
+  // entry or exit, and entry and exit within FLT_MIN, say nothing). A zero direction
+  // component gives infinite or NaN distances: the ray is then not turned away, nor is an
+  // invalid ray, which the clip turns away next.
+  bool misses_surely(const Ray& ray) const {
+    const __m128 origin = _mm_loadu_ps(&ray.origin.x);  // x, y, z, tmin
+    const __m128 lo = _mm_load_ps(lo_float), hi = _mm_load_ps(hi_float);
+    // A ray from inside the box (a shadow ray, a camera in a room) is let in at once.
+    const __m128 inside = _mm_and_ps(_mm_cmple_ps(lo, origin), _mm_cmple_ps(origin, hi));
+    if ((_mm_movemask_ps(inside) & 7) == 7) return false;
+    const __m128 dir = _mm_loadu_ps(&ray.dir.x);  // x, y, z, tmax
+    const __m128 inv_dir = _mm_div_ps(_mm_set1_ps(1.0f), dir);
+    const __m128 t_lo = _mm_mul_ps(_mm_sub_ps(lo, origin), inv_dir);
+    const __m128 t_hi = _mm_mul_ps(_mm_sub_ps(hi, origin), inv_dir);
+    // minps / maxps give their second operand for a NaN: t_hi, infinite, then.
+    const __m128 t_near = _mm_min_ps(t_lo, t_hi), exact_far = _mm_max_ps(t_lo, t_hi);
+    const __m128 sign = _mm_set1_ps(-0.0f);
+    const __m128 outward = _mm_or_ps(_mm_and_ps(exact_far, sign), _mm_set1_ps(3 * kSlabGamma));
+    const __m128 t_far = _mm_mul_ps(exact_far, _mm_add_ps(_mm_set1_ps(1.0f), outward));
+    // Lanes 0..2 the axes', lane 3 tmin (entry) and tmax (exit): (a0, a1, a2, b3).
+    const auto axes_then = [](__m128 a, __m128 b) {
+      return _mm_shuffle_ps(a, _mm_unpackhi_ps(a, b), _MM_SHUFFLE(3, 0, 1, 0));
+    };
+    __m128 entry = axes_then(t_near, origin), exit = axes_then(t_far, dir);
+    entry = _mm_max_ps(entry, _mm_shuffle_ps(entry, entry, _MM_SHUFFLE(2, 3, 0, 1)));
+    entry = _mm_max_ps(entry, _mm_shuffle_ps(entry, entry, _MM_SHUFFLE(1, 0, 3, 2)));
+    exit = _mm_min_ps(exit, _mm_shuffle_ps(exit, exit, _MM_SHUFFLE(2, 3, 0, 1)));
+    exit = _mm_min_ps(exit, _mm_shuffle_ps(exit, exit, _MM_SHUFFLE(1, 0, 3, 2)));
+    const float t_entry = _mm_cvtss_f32(entry), t_exit = _mm_cvtss_f32(exit);
+    if (!(t_entry > t_exit + FLT_MIN && t_entry < INFINITY && t_exit > -INFINITY)) return false;
+    const __m128 near = _mm_cmple_ps(_mm_andnot_ps(sign, origin), _mm_set1_ps(near_range));
+    return (_mm_movemask_ps(near) & 7) == 7;
   }
 };
 
