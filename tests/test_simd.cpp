@@ -232,42 +232,54 @@ TEST(BoxTest, NeverReportsAMissForACrossing) {
   EXPECT_GT(crossings, boxes_tested / 4);
 }
 
+// Scenes and rays for the clip box's float test: a box of size about `scale` (flat on an
+// axis one time in 19), and rays aimed at a point of a face or an edge of its clip box (the
+// double faces), so that many graze it, from before, inside and beyond it, with zero and
+// -0 components, tiny components (whose 1 / dir overflows in float), origins beyond the near
+// range, and short segments.
+float grazing_scale(int k) { return k % 3 == 0 ? 1e-3f : k % 3 == 1 ? 1.0f : 1e4f; }
+Box grazing_box(int k, std::mt19937_64& rng) {
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  const float scale = grazing_scale(k);
+  Box scene;
+  for (int a = 0; a < 3; ++a) {
+    const float x = scale * unit(rng), y = scale * unit(rng);
+    scene.lo[a] = std::min(x, y), scene.hi[a] = k % 19 == 0 ? std::min(x, y) : std::max(x, y);
+  }
+  return scene;
+}
+Ray grazing_ray(int k, float scale, const ClipBox& box, std::mt19937_64& rng) {
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  double target[3];
+  for (int a = 0; a < 3; ++a) target[a] = (k >> a & 1) ? box.lo[a] : box.hi[a];
+  target[k % 3] = box.lo[k % 3] + (box.hi[k % 3] - box.lo[k % 3]) * (0.5 + 0.5 * unit(rng));
+  Ray ray;
+  for (int a = 0; a < 3; ++a) {
+    ray.origin[a] = float(target[a]) + scale * 3.0f * unit(rng);
+    ray.dir[a] = float(target[a]) - ray.origin[a] + (k % 4 == 0 ? scale * 0.3f * unit(rng) : 0.0f);
+  }
+  if (k % 11 == 0) ray.dir[k % 3] = 0.0f, ray.origin[k % 3] = float(target[k % 3]);
+  if (k % 13 == 0) ray.dir[(k + 1) % 3] = -0.0f;
+  if (k % 23 == 0) ray.dir[(k + 2) % 3] = 1e-41f;
+  if (k % 29 == 0) ray.origin *= 2e4f;
+  ray.tmin = k % 5 == 0 ? 0.5f : 0.0f;
+  ray.tmax = k % 7 == 0 ? 0.999999f : INFINITY;
+  return ray;
+}
+
 // The clip box's float test (ClipBox::misses_surely) turns a ray away only when its
 // segment [tmin, tmax] misses the box: never for a ray whose exact segment (long double)
-// meets the box, nor for one the double clip (clip_segment) lets in; rays aimed at the
-// box's faces, edges and corners, so that many graze it, from before, inside and beyond it,
-// with zero and -0 components, short segments, tiny components (whose 1 / dir overflows in
-// float) and origins beyond the near range (never turned away). And it does turn away
-// every ray that misses the box by a clear margin.
+// meets the box, nor for one the double clip (clip_segment) lets in, nor for one from
+// beyond the near range. And it does turn away every ray that misses the box by a clear
+// margin.
 TEST(ClipBoxTest, FloatTestTurnsAwayOnlyRaysThatMissTheBox) {
   std::mt19937_64 rng(29);
-  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
   uint64_t meeting = 0, clear_misses = 0, turned_away = 0, far = 0;
   for (int k = 0; k < 30000; ++k) {
-    const float scale = k % 3 == 0 ? 1e-3f : k % 3 == 1 ? 1.0f : 1e4f;
-    Box scene;
-    for (int a = 0; a < 3; ++a) {
-      const float x = scale * unit(rng), y = scale * unit(rng);
-      scene.lo[a] = std::min(x, y), scene.hi[a] = k % 19 == 0 ? std::min(x, y) : std::max(x, y);
-    }
-    const ClipBox box(scene);
-    // Aimed at a point of a face or an edge of the clip box itself (its double faces).
-    double target[3];
-    for (int a = 0; a < 3; ++a) target[a] = (k >> a & 1) ? box.lo[a] : box.hi[a];
-    target[k % 3] = box.lo[k % 3] + (box.hi[k % 3] - box.lo[k % 3]) * (0.5 + 0.5 * unit(rng));
-    Ray ray;
-    for (int a = 0; a < 3; ++a) {
-      ray.origin[a] = float(target[a]) + scale * 3.0f * unit(rng);
-      ray.dir[a] =
-          float(target[a]) - ray.origin[a] + (k % 4 == 0 ? scale * 0.3f * unit(rng) : 0.0f);
-    }
-    if (k % 11 == 0) ray.dir[k % 3] = 0.0f, ray.origin[k % 3] = float(target[k % 3]);
-    if (k % 13 == 0) ray.dir[(k + 1) % 3] = -0.0f;
-    if (k % 23 == 0) ray.dir[(k + 2) % 3] = 1e-41f;  // 1 / dir overflows in float
-    if (k % 29 == 0) ray.origin *= 2e4f;             // beyond the near range
+    const float scale = grazing_scale(k);
+    const ClipBox box(grazing_box(k, rng));
+    const Ray ray = grazing_ray(k, scale, box, rng);
     if (ray.dir == glm::vec3(0.0f)) continue;
-    ray.tmin = k % 5 == 0 ? 0.5f : 0.0f;
-    ray.tmax = k % 7 == 0 ? 0.999999f : INFINITY;
     const bool turned = box.misses_surely(ray);
     turned_away += turned;
     double t0 = ray.tmin, t1 = ray.tmax;
@@ -528,9 +540,15 @@ TEST(BoxTest, PacketBoundsRuleOutOnlyBoxesNoRayCrosses) {
 uint64_t bits(double x) { return std::bit_cast<uint64_t>(x); }
 uint32_t bits(float x) { return std::bit_cast<uint32_t>(x); }
 
+// The box the packet start's rays are made for.
+const Box kStartBox{glm::vec3(-1.0f, -2.0f, -1.5f), glm::vec3(2.0f, 1.0f, 2.5f)};
+
 // Rays for the packet start: ordinary ones through and past a box, and the cases every
 // branch of start_walk takes: zero and negative-zero components, origins on the box's faces
-// and far away, empty or inverted [tmin, tmax], infinite and NaN numbers.
+// and far away, empty or inverted [tmin, tmax], infinite and NaN numbers. Then packets of
+// rays from outside that mostly miss the box, one in eight aimed at a point of a face or an
+// edge and grazing it: lane groups the float test (ClipBox::misses_surely) turns away whole,
+// and groups it splits.
 std::vector<Ray> start_rays(std::mt19937& random) {
   std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
   const float inf = std::numeric_limits<float>::infinity(), nan = std::nanf("");
@@ -568,6 +586,17 @@ std::vector<Ray> start_rays(std::mt19937& random) {
     }
     rays.push_back(ray);
   }
+  const glm::vec3 centre = 0.5f * (kStartBox.lo + kStartBox.hi);
+  for (int i = 0; i < 64 * 6; ++i) {
+    Ray ray;
+    glm::vec3 target;
+    for (int a = 0; a < 3; ++a) target[a] = (i >> a & 1) ? kStartBox.lo[a] : kStartBox.hi[a];
+    target[i % 3] = centre[i % 3] + 0.5f * unit(random) * (kStartBox.hi - kStartBox.lo)[i % 3];
+    const glm::vec3 out(unit(random), unit(random), unit(random));
+    ray.origin = target + 3.0f * out;
+    ray.dir = i % 8 == 0 ? target - ray.origin : out + 0.3f * glm::vec3(unit(random));
+    rays.push_back(ray);
+  }
   return rays;
 }
 
@@ -579,7 +608,7 @@ std::vector<Ray> start_rays(std::mt19937& random) {
 TEST(PacketLanes, StartIsTheSingleRayStartBitForBit) {
   std::mt19937 random(11);
   const std::vector<Ray> rays = start_rays(random);
-  const ClipBox box(Box{glm::vec3(-1.0f, -2.0f, -1.5f), glm::vec3(2.0f, 1.0f, 2.5f)});
+  const ClipBox box(kStartBox);
   size_t tried = 0, walks = 0, misses = 0, far = 0, bounded_axes = 0;
   for (const Isa isa : supported_isas()) {
     const PacketLaneOps ops = packet_lane_ops(isa);
@@ -669,6 +698,39 @@ TEST(PacketLanes, StartIsTheSingleRayStartBitForBit) {
   EXPECT_GT(walks, tried / 4);
   EXPECT_GT(misses, tried / 10);
   EXPECT_GT(far, 10u);
+}
+
+// The packet start's float test (PacketLaneOps::turned_away), with every instruction set
+// this CPU has, turns away exactly the rays ClipBox::misses_surely turns away, and the
+// start then starts exactly the rays start_walk starts: packets of 64 rays grazing one box,
+// at three scales.
+TEST(PacketLanes, FloatTestIsTheClipBoxsBitForBit) {
+  std::mt19937_64 rng(31);
+  uint64_t turned_total = 0, rays_total = 0;
+  for (const Isa isa : supported_isas()) {
+    const PacketLaneOps ops = packet_lane_ops(isa);
+    for (int packet = 0; packet < 600; ++packet) {
+      const float scale = grazing_scale(packet);
+      const ClipBox box(grazing_box(packet, rng));
+      PacketLines lines;
+      Ray rays[64];
+      for (uint32_t i = 0; i < 64; ++i) {
+        rays[i] = grazing_ray(64 * packet + int(i), scale, box, rng);
+        lines.set_ray(i, rays[i]);
+      }
+      const uint64_t turned = ops.turned_away(box, 64, lines);
+      const uint64_t started = ops.start(box, 64, lines);
+      for (uint32_t i = 0; i < 64; ++i) {
+        ASSERT_EQ(bool(turned >> i & 1), box.misses_surely(rays[i]))
+            << isa_name(isa) << " packet " << packet << " ray " << i;
+        WalkLine line;
+        ASSERT_EQ(bool(started >> i & 1), start_walk(box, rays[i], line))
+            << isa_name(isa) << " packet " << packet << " ray " << i;
+      }
+      turned_total += uint64_t(std::popcount(turned)), rays_total += 64;
+    }
+  }
+  EXPECT_GT(turned_total, rays_total / 8);
 }
 
 // Every structure, with every kernel this CPU has, answers exactly what brute answers:

@@ -40,6 +40,9 @@ struct PacketLines {
   }
 };
 
+// Of rays 0 .. count - 1 (set_ray'd), those the box's float test turns away
+// (ClipBox::misses_surely, bit for bit): the start's first step.
+using TurnedAway = uint64_t (*)(const ClipBox& box, uint32_t count, const PacketLines& lines);
 // Starts the walks of rays 0 .. count - 1 (set_ray'd): for each, what start_walk gives
 // (false for an invalid ray or one that misses the box) and its kind. Returns the rays that
 // start a walk.
@@ -52,6 +55,7 @@ using PrepareRays = void (*)(PacketLines& lines, uint64_t rays, const int axes[3
                              RayLanes& kernel_lanes, RayBoxLanes& box_lanes);
 
 struct PacketLaneOps {
+  TurnedAway turned_away;
   StartRays start;
   PrepareRays prepare;
 };

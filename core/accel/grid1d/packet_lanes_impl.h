@@ -9,6 +9,7 @@
 // and std::clamp's comparison, so each lane's figures are the scalar ones bit for bit.
 #include <algorithm>
 #include <bit>
+#include <cfloat>
 #include <cstring>
 #include <limits>
 
@@ -96,11 +97,55 @@ struct LaneMath {
     return inside & (t0 <= t1);
   }
 
-  // start_walk (core/geometry/clip_box.cpp) and the kind, a lane group at a time.
+  // ClipBox::misses_surely for a lane group's rays, operation for operation: the rays the
+  // float test turns away. maxps and minps are the selects below (their second operand
+  // for a NaN), and the scalar test's maximum and minimum over its four lanes are the
+  // running ones here, which drop a NaN axis as its lanes do.
+  // Rays from inside the box are let in at once; a group of them only (a camera in a room,
+  // shadow rays) makes no other test.
+  static uint32_t misses_surely(const ClipBox& box, uint32_t first, uint32_t group,
+                                const PacketLines& l) {
+    const float infinity = std::numeric_limits<float>::infinity();
+    const UInt sign = UInt{} + 0x80000000u;
+    Int inside = Int{} == 0, near = inside;
+    for (int a = 0; a < 3; ++a) {
+      const Float o = load_float(&l.ray_origin[a][first]);
+      inside &= (box.lo_float[a] <= o) & (o <= box.hi_float[a]);
+      near &= Float(UInt(o) & ~sign) <= box.near_range;
+    }
+    if ((group & ~Lanes::bits(__builtin_convertvector(inside, Mask))) == 0) return 0;
+    Float entry = load_float(&l.tmin[first]), exit = load_float(&l.tmax[first]);
+    for (int a = 0; a < 3; ++a) {
+      const Float o = load_float(&l.ray_origin[a][first]);
+      const Float inv_dir = 1.0f / load_float(&l.ray_dir[a][first]);
+      const Float t_lo = (box.lo_float[a] - o) * inv_dir, t_hi = (box.hi_float[a] - o) * inv_dir;
+      const Float t_near = t_lo < t_hi ? t_lo : t_hi, exact_far = t_lo > t_hi ? t_lo : t_hi;
+      const Float outward = Float((UInt(exact_far) & sign) | UInt(Float{} + 3 * kSlabGamma));
+      const Float t_far = exact_far * (1.0f + outward);
+      entry = t_near > entry ? t_near : entry;
+      exit = t_far < exit ? t_far : exit;
+    }
+    const Int turned =
+        ~inside & near & (entry > exit + FLT_MIN) & (entry < infinity) & (exit > -infinity);
+    return Lanes::bits(__builtin_convertvector(turned, Mask));
+  }
+
+  // Of rays 0 .. count - 1, those ClipBox::misses_surely turns away.
+  static uint64_t turned_away(const ClipBox& box, uint32_t count, const PacketLines& l) {
+    uint64_t turned = 0;
+    for_each_group(rays_of(count), [&](uint32_t first, uint32_t group) {
+      turned |= uint64_t(misses_surely(box, first, group, l) & group) << first;
+    });
+    return turned;
+  }
+
+  // start_walk (core/geometry/clip_box.cpp) and the kind, a lane group at a time. The float
+  // test goes first, and a group whose rays it all turns away is passed over: in a tile at
+  // the edge of the scene, most are.
   static uint64_t start(const ClipBox& box, uint32_t count, PacketLines& l) {
     if (box.empty) return 0;
     uint64_t started = 0, far = 0;
-    const uint64_t rays = count >= 64 ? ~uint64_t{0} : (uint64_t{1} << count) - 1;
+    const uint64_t rays = rays_of(count) & ~turned_away(box, count, l);
     for_each_group(rays, [&](uint32_t first, uint32_t /*group*/) {
       Real o[3], d[3], inv_dir[3];
       const Real tmin = load(&l.tmin[first]), tmax = load(&l.tmax[first]);
@@ -146,8 +191,9 @@ struct LaneMath {
       started |= uint64_t(Lanes::bits(walks)) << first;
       far |= uint64_t(Lanes::bits(is_far)) << first;
     });
+    started &= rays;
     l.far = far & started;
-    return started & rays;
+    return started;
   }
 
   // PreparedRay, RayBoxes, box_test_start and set_stop (grid1d's records.h) for the packet.
@@ -213,6 +259,9 @@ struct LaneMath {
     return m;
   }
 
+  static uint64_t rays_of(uint32_t count) {
+    return count >= 64 ? ~uint64_t{0} : (uint64_t{1} << count) - 1;
+  }
   // The lane groups holding one of `rays`, by the number of their first ray.
   template <class Each>
   static void for_each_group(uint64_t rays, Each&& each) {
@@ -223,7 +272,7 @@ struct LaneMath {
     }
   }
 
-  static PacketLaneOps ops() { return {start, prepare}; }
+  static PacketLaneOps ops() { return {turned_away, start, prepare}; }
 };
 
 }  // namespace
