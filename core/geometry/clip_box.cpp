@@ -69,8 +69,6 @@ bool start_walk(const ClipBox& box, const Ray& ray, WalkLine& line) {
   return line.t0 <= line.t1;
 }
 
-double WalkLine::stop(float tmax) const { return walk_stop(tmax, slack, shift); }
-
 bool ray_is_valid(const Ray& ray) {
   // A float is infinite or NaN exactly when its exponent bits are all ones, and zero when
   // all bits but the sign are clear: the six components tested at once, origin and

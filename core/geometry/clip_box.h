@@ -206,5 +206,6 @@ inline double stop_distance(float tmax, double slack) {
 inline double walk_stop(float tmax, double slack, double shift) {
   return stop_distance(tmax, slack) - shift;
 }
+inline double WalkLine::stop(float tmax) const { return walk_stop(tmax, slack, shift); }
 
 }  // namespace gs
