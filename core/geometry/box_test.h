@@ -43,18 +43,23 @@ inline uint32_t box_lane(uint32_t box) { return box & 3u; }
 inline uint32_t near_face_array(uint32_t a, bool toward_lo) { return toward_lo ? 3 + a : a; }
 inline uint32_t far_face_array(uint32_t a, bool toward_lo) { return toward_lo ? a : 3 + a; }
 
+// A far slab distance computed in float moved outward by 3 gamma(3) of its magnitude
+// (whatever its sign): the exit every float slab test here compares with.
+inline __m128 widened_exit(__m128 exact_far) {
+  const __m128 outward =
+      _mm_or_ps(_mm_and_ps(exact_far, _mm_set1_ps(-0.0f)), _mm_set1_ps(3 * kSlabGamma));
+  return _mm_mul_ps(exact_far, _mm_add_ps(_mm_set1_ps(1.0f), outward));
+}
+
 // The slab test in four lanes, each a ray and a box (their near and far faces per axis):
 // whether the ray crosses the box somewhere in [t0, t1].
 inline uint32_t slab_test4(const __m128 near_face[3], const __m128 far_face[3],
                            const __m128 origin[3], const __m128 inv_dir[3], __m128 t0, __m128 t1) {
-  const __m128 outward_size = _mm_set1_ps(3 * kSlabGamma), one = _mm_set1_ps(1.0f),
-               sign = _mm_set1_ps(-0.0f);
   __m128 entry = t0, exit = t1;
   for (int a = 0; a < 3; ++a) {
     const __m128 t_near = _mm_mul_ps(_mm_sub_ps(near_face[a], origin[a]), inv_dir[a]);
     const __m128 exact_far = _mm_mul_ps(_mm_sub_ps(far_face[a], origin[a]), inv_dir[a]);
-    const __m128 outward = _mm_or_ps(_mm_and_ps(exact_far, sign), outward_size);
-    const __m128 t_far = _mm_mul_ps(exact_far, _mm_add_ps(one, outward));
+    const __m128 t_far = widened_exit(exact_far);
     // maxps / minps return their second operand when either is NaN: NaN lanes drop out.
     entry = _mm_max_ps(t_near, entry);
     exit = _mm_min_ps(t_far, exit);
@@ -131,8 +136,6 @@ struct RayBoxBounds {
   // Bits 0..3 for boxes first .. first + 3: clear when no ray of the bounds crosses the box.
   uint32_t may_cross4(const float* boxes, uint32_t stride, uint32_t first,
                       const uint32_t near_array[3], const uint32_t far_array[3]) const {
-    const __m128 outward_size = _mm_set1_ps(3 * kSlabGamma), one = _mm_set1_ps(1.0f),
-                 sign = _mm_set1_ps(-0.0f);
     __m128 entry = t0_lo, exit = t1_hi;
     for (int a = 0; a < 3; ++a) {
       if (!(axes >> a & 1)) continue;
@@ -148,9 +151,8 @@ struct RayBoxBounds {
       const __m128 exact_far =
           _mm_max_ps(_mm_mul_ps(far_gap, inv_lo[a]), _mm_mul_ps(far_gap, inv_hi[a]));
       // slab_test4's widening, which grows with the distance: applied to the greatest.
-      const __m128 outward = _mm_or_ps(_mm_and_ps(exact_far, sign), outward_size);
       entry = _mm_max_ps(least_near, entry);
-      exit = _mm_min_ps(_mm_mul_ps(exact_far, _mm_add_ps(one, outward)), exit);
+      exit = _mm_min_ps(widened_exit(exact_far), exit);
     }
     return uint32_t(_mm_movemask_ps(_mm_cmpngt_ps(entry, exit)));  // NaN: may cross
   }

@@ -97,9 +97,7 @@ struct ClipBox {
     const __m128 t_hi = _mm_mul_ps(_mm_sub_ps(hi, origin), inv_dir);
     // minps / maxps give their second operand for a NaN: t_hi, infinite, then.
     const __m128 t_near = _mm_min_ps(t_lo, t_hi), exact_far = _mm_max_ps(t_lo, t_hi);
-    const __m128 sign = _mm_set1_ps(-0.0f);
-    const __m128 outward = _mm_or_ps(_mm_and_ps(exact_far, sign), _mm_set1_ps(3 * kSlabGamma));
-    const __m128 t_far = _mm_mul_ps(exact_far, _mm_add_ps(_mm_set1_ps(1.0f), outward));
+    const __m128 t_far = widened_exit(exact_far);
     // Lanes 0..2 the axes', lane 3 tmin (entry) and tmax (exit): (a0, a1, a2, b3).
     const auto axes_then = [](__m128 a, __m128 b) {
       return _mm_shuffle_ps(a, _mm_unpackhi_ps(a, b), _MM_SHUFFLE(3, 0, 1, 0));
@@ -111,7 +109,8 @@ struct ClipBox {
     exit = _mm_min_ps(exit, _mm_shuffle_ps(exit, exit, _MM_SHUFFLE(1, 0, 3, 2)));
     const float t_entry = _mm_cvtss_f32(entry), t_exit = _mm_cvtss_f32(exit);
     if (!(t_entry > t_exit + FLT_MIN && t_entry < INFINITY && t_exit > -INFINITY)) return false;
-    const __m128 near = _mm_cmple_ps(_mm_andnot_ps(sign, origin), _mm_set1_ps(near_range));
+    const __m128 near =
+        _mm_cmple_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), origin), _mm_set1_ps(near_range));
     return (_mm_movemask_ps(near) & 7) == 7;
   }
 };
