@@ -45,10 +45,16 @@ inline uint32_t far_face_array(uint32_t a, bool toward_lo) { return toward_lo ? 
 
 // A far slab distance computed in float moved outward by 3 gamma(3) of its magnitude
 // (whatever its sign): the exit every float slab test here compares with.
+// Its constants are read from memory as operands: set1 broadcasts them into registers
+// first, which in the 1D grid's walk is redone at every node a ray enters.
+alignas(16) inline constexpr float kSignBit4[4] = {-0.0f, -0.0f, -0.0f, -0.0f};
+alignas(16) inline constexpr float kExitWidening4[4] = {3 * kSlabGamma, 3 * kSlabGamma,
+                                                        3 * kSlabGamma, 3 * kSlabGamma};
+alignas(16) inline constexpr float kOne4[4] = {1.0f, 1.0f, 1.0f, 1.0f};
 inline __m128 widened_exit(__m128 exact_far) {
-  const __m128 outward =
-      _mm_or_ps(_mm_and_ps(exact_far, _mm_set1_ps(-0.0f)), _mm_set1_ps(3 * kSlabGamma));
-  return _mm_mul_ps(exact_far, _mm_add_ps(_mm_set1_ps(1.0f), outward));
+  const __m128 outward = _mm_or_ps(_mm_and_ps(exact_far, _mm_load_ps(kSignBit4)),
+                                   _mm_load_ps(kExitWidening4));
+  return _mm_mul_ps(exact_far, _mm_add_ps(_mm_load_ps(kOne4), outward));
 }
 
 // The slab test in four lanes, each a ray and a box (their near and far faces per axis):
@@ -75,6 +81,9 @@ inline uint32_t slab_test4(const __m128 near_face[3], const __m128 far_face[3],
 struct RayBoxes {
   __m128 origin[3], inv_dir[3];
   uint32_t near_array[3], far_array[3];  // per axis: which of the six arrays it meets first
+  // The same faces' offsets in a group of grouped boxes (box_group), kept at hand: the 1D
+  // grid tests a group per node it enters, and the products cost as much as the loads.
+  uint32_t near_in_group[3], far_in_group[3];  // in bytes
 
   explicit RayBoxes(const Ray& ray, bool cull = true) {
     for (uint32_t a = 0; a < 3; ++a) {
@@ -84,6 +93,8 @@ struct RayBoxes {
       const bool toward_lo = std::signbit(ray.dir[a]);
       near_array[a] = near_face_array(a, toward_lo);
       far_array[a] = far_face_array(a, toward_lo);
+      near_in_group[a] = 4 * near_array[a] * sizeof(float);
+      far_in_group[a] = 4 * far_array[a] * sizeof(float);
     }
   }
 
@@ -100,7 +111,13 @@ struct RayBoxes {
   }
   // Bits 0..3 for the four boxes of a group of grouped boxes (box_group).
   uint32_t crossed_group(const float* group, __m128 t0, __m128 t1) const {
-    return crossed4(group, 4, 0, t0, t1);
+    const char* bytes = reinterpret_cast<const char*>(group);
+    __m128 near_face[3], far_face[3];
+    for (int a = 0; a < 3; ++a) {
+      near_face[a] = _mm_loadu_ps(reinterpret_cast<const float*>(bytes + near_in_group[a]));
+      far_face[a] = _mm_loadu_ps(reinterpret_cast<const float*>(bytes + far_in_group[a]));
+    }
+    return slab_test4(near_face, far_face, origin, inv_dir, t0, t1);
   }
 };
 

@@ -285,36 +285,22 @@ inline void Grid1D::activate(int a, uint32_t node, uint32_t state, RayWalk& walk
   const auto entry = [&](int64_t cell) {
     return values.exit_distance(node.first_cell + cell - d, d);
   };
-  // Groups of four cells (box_group), from the one holding `from`, whose cells before
-  // `from` are masked off; the last group's cells past g have empty boxes.
-  const int64_t from_group = from & ~int64_t{3};
-  int64_t cell = -1;
-  if (d > 0) {
-    uint32_t ahead = ~0u << (from & 3);
-    for (int64_t group = from_group; group < g; group += 4, ahead = ~0u) {
-      const uint32_t met =
-          walk.boxes->crossed_group(boxes + 6 * group, walk.t_lo, walk.t_hi) & ahead;
-      if (met != 0) {
-        cell = group + std::countr_zero(met);
-        break;
-      }
-      if (group + 4 < g && entry(group + 4) > limit) break;
-    }
-  } else if (d < 0) {
-    uint32_t ahead = (2u << (from & 3)) - 1u;
-    for (int64_t group = from_group; group >= 0; group -= 4, ahead = 15u) {
-      const uint32_t met =
-          walk.boxes->crossed_group(boxes + 6 * group, walk.t_lo, walk.t_hi) & ahead;
-      if (met != 0) {
-        cell = group + std::bit_width(met) - 1;
-        break;
-      }
-      if (group > 0 && entry(group - 1) > limit) break;
-    }
-  } else if (walk.boxes->crossed_group(boxes + 6 * from_group, walk.t_lo, walk.t_hi) >> (from & 3) &
-             1u) {
-    cell = from;
+  // Groups of four cells (box_group), from the one holding `from`, whose cells behind
+  // `from` are masked off (all but `from` when the ray runs across the axis); the last
+  // group's cells past g have empty boxes. The first group is tested on its own: it
+  // decides most seeks, a descent's nearly always.
+  const uint32_t lane = uint32_t(from & 3);
+  const uint32_t ahead = d > 0 ? ~0u << lane : d < 0 ? (2u << lane) - 1u : 1u << lane;
+  int64_t group = from & ~int64_t{3};
+  uint32_t met = walk.boxes->crossed_group(boxes + 6 * group, walk.t_lo, walk.t_hi) & ahead;
+  while (met == 0 && d != 0) {
+    group += 4 * d;
+    // The next group is worth a test if the ray enters its nearest cell before the limit.
+    if (group < 0 || group >= g || entry(d > 0 ? group : group + 3) > limit) break;
+    met = walk.boxes->crossed_group(boxes + 6 * group, walk.t_lo, walk.t_hi);
   }
+  const int64_t cell =
+      met == 0 ? -1 : group + (d < 0 ? std::bit_width(met) - 1 : std::countr_zero(met));
   if (cell >= 0) {
     GRIDSCOPE_CHECK(cell < g);
     if (cell == from && from_is_current) return cell;
