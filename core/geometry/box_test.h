@@ -52,8 +52,8 @@ alignas(16) inline constexpr float kExitWidening4[4] = {3 * kSlabGamma, 3 * kSla
                                                         3 * kSlabGamma, 3 * kSlabGamma};
 alignas(16) inline constexpr float kOne4[4] = {1.0f, 1.0f, 1.0f, 1.0f};
 inline __m128 widened_exit(__m128 exact_far) {
-  const __m128 outward = _mm_or_ps(_mm_and_ps(exact_far, _mm_load_ps(kSignBit4)),
-                                   _mm_load_ps(kExitWidening4));
+  const __m128 outward =
+      _mm_or_ps(_mm_and_ps(exact_far, _mm_load_ps(kSignBit4)), _mm_load_ps(kExitWidening4));
   return _mm_mul_ps(exact_far, _mm_add_ps(_mm_load_ps(kOne4), outward));
 }
 
