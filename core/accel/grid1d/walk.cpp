@@ -278,8 +278,12 @@ inline void Grid1D::activate(int a, uint32_t node, uint32_t state, RayWalk& walk
   const int b = node.axis, d = walk.step[b];
   const int64_t g = node.granularity;
   Context::StateValues& values = context.states[node.state];
-  const double other = std::min(walk.t_next[kNextAxis[b]], walk.t_next[kNextAxis[b + 1]]);
-  const double limit = std::min(other, walk.stop);
+  // The nearest wall on the two other axes, and the limit it and the stop distance set:
+  // looked up only once the ray moves on from `from` (rarely in a descent).
+  const auto other = [&] {
+    return std::min(walk.t_next[kNextAxis[b]], walk.t_next[kNextAxis[b + 1]]);
+  };
+  const auto limit = [&] { return std::min(other(), walk.stop); };
   const float* boxes = &child_boxes_[node.boxes];
   // Where the ray enters cell `cell` (a wall of the state's grid).
   const auto entry = [&](int64_t cell) {
@@ -293,19 +297,14 @@ inline void Grid1D::activate(int a, uint32_t node, uint32_t state, RayWalk& walk
   const uint32_t ahead = d > 0 ? ~0u << lane : d < 0 ? (2u << lane) - 1u : 1u << lane;
   int64_t group = from & ~int64_t{3};
   uint32_t met = walk.boxes->crossed_group(boxes + 6 * group, walk.t_lo, walk.t_hi) & ahead;
-  while (met == 0 && d != 0) {
-    group += 4 * d;
-    // The next group is worth a test if the ray enters its nearest cell before the limit.
-    if (group < 0 || group >= g || entry(d > 0 ? group : group + 3) > limit) break;
-    met = walk.boxes->crossed_group(boxes + 6 * group, walk.t_lo, walk.t_hi);
-  }
+  if (met == 0 && d != 0) met = seek_on(id, limit(), walk, context, group);
   const int64_t cell =
       met == 0 ? -1 : group + (d < 0 ? std::bit_width(met) - 1 : std::countr_zero(met));
   if (cell >= 0) {
     GRIDSCOPE_CHECK(cell < g);
     if (cell == from && from_is_current) return cell;
     const double t_in = entry(cell);
-    if (t_in <= limit) {
+    if (t_in <= limit()) {
       values.index = node.first_cell + cell;
       values.t_next = walk.t_next[b] = values.exit_distance(values.index, d);
       cursor.t = t_in, cursor.entered = b;
@@ -316,9 +315,30 @@ inline void Grid1D::activate(int a, uint32_t node, uint32_t state, RayWalk& walk
   }
   const int64_t end = node.first_cell + (d > 0 ? g - 1 : 0);
   const double t_end = d == 0 ? kInf : values.exit_distance(end, d);
-  if (t_end <= other) values.index = end, values.t_next = t_end;
+  if (t_end <= other()) values.index = end, values.t_next = t_end;
   walk.t_next[b] = t_end;
   return -1;
+}
+
+// The groups of node `id`'s cells after `group`, the first one seek tested, nearest
+// first while the ray enters them before `limit`: the cells crossed in the first group with
+// any, which `group` becomes, or none. Out of line: most seeks end at their first group,
+// whose test then need not keep the ray's box test in registers for a loop.
+[[gnu::noinline]] uint32_t Grid1D::seek_on(uint32_t id, double limit, const RayWalk& walk,
+                                           const Context& context, int64_t& group) const {
+  const Node& node = nodes_[id];
+  const Context::StateValues& values = context.states[node.state];
+  const int d = walk.step[node.axis];
+  const float* boxes = &child_boxes_[node.boxes];
+  for (;;) {
+    group += 4 * d;
+    if (group < 0 || group >= node.granularity) return 0;
+    // Where the ray enters the group's nearest cell.
+    const int64_t nearest = node.first_cell + (d > 0 ? group : group + 3);
+    if (values.exit_distance(nearest - d, d) > limit) return 0;
+    if (const uint32_t met = walk.boxes->crossed_group(boxes + 6 * group, walk.t_lo, walk.t_hi))
+      return met;
+  }
 }
 
 // §5.2: into node `id`, which the ray occupies at t_cur, setting its traversal state, and
