@@ -138,8 +138,6 @@ class Grid1D final : public Accelerator {
   bool next_cell(Cursor& cursor, RayWalk& walk, Context& context) const;
   int64_t seek(uint32_t node, int64_t from, bool from_is_current, Cursor& cursor, RayWalk& walk,
                Context& context) const;
-  uint32_t seek_on(uint32_t node, double limit, const RayWalk& walk, const Context& context,
-                   int64_t& group) const;
   bool holds_start(uint32_t node, int64_t cell, const RayWalk& walk) const;
   void activate(int axis, uint32_t node, uint32_t state, RayWalk& walk) const;
   template <class Recorder>

@@ -278,33 +278,48 @@ inline void Grid1D::activate(int a, uint32_t node, uint32_t state, RayWalk& walk
   const int b = node.axis, d = walk.step[b];
   const int64_t g = node.granularity;
   Context::StateValues& values = context.states[node.state];
-  // The nearest wall on the two other axes, and the limit it and the stop distance set:
-  // looked up only once the ray moves on from `from` (rarely in a descent).
-  const auto other = [&] {
-    return std::min(walk.t_next[kNextAxis[b]], walk.t_next[kNextAxis[b + 1]]);
-  };
-  const auto limit = [&] { return std::min(other(), walk.stop); };
+  const double other = std::min(walk.t_next[kNextAxis[b]], walk.t_next[kNextAxis[b + 1]]);
+  const double limit = std::min(other, walk.stop);
   const float* boxes = &child_boxes_[node.boxes];
   // Where the ray enters cell `cell` (a wall of the state's grid).
   const auto entry = [&](int64_t cell) {
     return values.exit_distance(node.first_cell + cell - d, d);
   };
-  // Groups of four cells (box_group), from the one holding `from`, whose cells behind
-  // `from` are masked off (all but `from` when the ray runs across the axis); the last
-  // group's cells past g have empty boxes. The first group is tested on its own: it
-  // decides most seeks, a descent's nearly always.
-  const uint32_t lane = uint32_t(from & 3);
-  const uint32_t ahead = d > 0 ? ~0u << lane : d < 0 ? (2u << lane) - 1u : 1u << lane;
-  int64_t group = from & ~int64_t{3};
-  uint32_t met = walk.boxes->crossed_group(boxes + 6 * group, walk.t_lo, walk.t_hi) & ahead;
-  if (met == 0 && d != 0) met = seek_on(id, limit(), walk, context, group);
-  const int64_t cell =
-      met == 0 ? -1 : group + (d < 0 ? std::bit_width(met) - 1 : std::countr_zero(met));
+  // Groups of four cells (box_group), from the one holding `from`, whose cells before
+  // `from` are masked off; the last group's cells past g have empty boxes.
+  const int64_t from_group = from & ~int64_t{3};
+  int64_t cell = -1;
+  if (d > 0) {
+    uint32_t ahead = ~0u << (from & 3);
+    for (int64_t group = from_group; group < g; group += 4, ahead = ~0u) {
+      const uint32_t met =
+          walk.boxes->crossed_group(boxes + 6 * group, walk.t_lo, walk.t_hi) & ahead;
+      if (met != 0) {
+        cell = group + std::countr_zero(met);
+        break;
+      }
+      if (group + 4 < g && entry(group + 4) > limit) break;
+    }
+  } else if (d < 0) {
+    uint32_t ahead = (2u << (from & 3)) - 1u;
+    for (int64_t group = from_group; group >= 0; group -= 4, ahead = 15u) {
+      const uint32_t met =
+          walk.boxes->crossed_group(boxes + 6 * group, walk.t_lo, walk.t_hi) & ahead;
+      if (met != 0) {
+        cell = group + std::bit_width(met) - 1;
+        break;
+      }
+      if (group > 0 && entry(group - 1) > limit) break;
+    }
+  } else if (walk.boxes->crossed_group(boxes + 6 * from_group, walk.t_lo, walk.t_hi) >> (from & 3) &
+             1u) {
+    cell = from;
+  }
   if (cell >= 0) {
     GRIDSCOPE_CHECK(cell < g);
     if (cell == from && from_is_current) return cell;
     const double t_in = entry(cell);
-    if (t_in <= limit()) {
+    if (t_in <= limit) {
       values.index = node.first_cell + cell;
       values.t_next = walk.t_next[b] = values.exit_distance(values.index, d);
       cursor.t = t_in, cursor.entered = b;
@@ -315,30 +330,9 @@ inline void Grid1D::activate(int a, uint32_t node, uint32_t state, RayWalk& walk
   }
   const int64_t end = node.first_cell + (d > 0 ? g - 1 : 0);
   const double t_end = d == 0 ? kInf : values.exit_distance(end, d);
-  if (t_end <= other()) values.index = end, values.t_next = t_end;
+  if (t_end <= other) values.index = end, values.t_next = t_end;
   walk.t_next[b] = t_end;
   return -1;
-}
-
-// The groups of node `id`'s cells after `group`, the first one seek tested, nearest
-// first while the ray enters them before `limit`: the cells crossed in the first group with
-// any, which `group` becomes, or none. Out of line: most seeks end at their first group,
-// whose test then need not keep the ray's box test in registers for a loop.
-[[gnu::noinline]] uint32_t Grid1D::seek_on(uint32_t id, double limit, const RayWalk& walk,
-                                           const Context& context, int64_t& group) const {
-  const Node& node = nodes_[id];
-  const Context::StateValues& values = context.states[node.state];
-  const int d = walk.step[node.axis];
-  const float* boxes = &child_boxes_[node.boxes];
-  for (;;) {
-    group += 4 * d;
-    if (group < 0 || group >= node.granularity) return 0;
-    // Where the ray enters the group's nearest cell.
-    const int64_t nearest = node.first_cell + (d > 0 ? group : group + 3);
-    if (values.exit_distance(nearest - d, d) > limit) return 0;
-    if (const uint32_t met = walk.boxes->crossed_group(boxes + 6 * group, walk.t_lo, walk.t_hi))
-      return met;
-  }
 }
 
 // §5.2: into node `id`, which the ray occupies at t_cur, setting its traversal state, and
