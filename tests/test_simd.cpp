@@ -371,6 +371,46 @@ TEST(BoxTest, BoxesInWideLanesAgreeWithFourAtATime) {
   EXPECT_LT(crossings, compared);
 }
 
+// The wide tests widen every exit as the four-at-a-time one does, negative exits too: boxes
+// grazed at a face, an edge or a corner (grazing_box, grazing_ray: the ray reaches its
+// target on the box at t = 1, or at t = -1 with its direction reversed) over segments that
+// start or end right there, where only the widening decides. Fails if a kernel widens
+// differently (or not at all) for either sign.
+TEST(BoxTest, WideLanesWidenExitsAsFourAtATime) {
+  std::mt19937_64 rng(31);
+  uint64_t compared = 0, decided_by_widening = 0;
+  for (int k = 0; k < 20000; ++k) {
+    const float scale = grazing_scale(k);
+    const ClipBox clip(grazing_box(k, rng));
+    Ray ray = grazing_ray(k, scale, clip, rng);
+    const bool behind = k % 4 >= 2;
+    if (behind) ray.dir = -ray.dir;
+    const float target = behind ? -1.0f : 1.0f;
+    const __m128 t0 = _mm_set1_ps(k % 2 ? target : -1e30f);
+    const __m128 t1 = _mm_set1_ps(k % 2 ? 1e30f : target);
+    float soa[box_floats(1)] = {};
+    for (int a = 0; a < 3; ++a) soa[4 * a] = clip.lo_float[a], soa[4 * (a + 3)] = clip.hi_float[a];
+    const RayBoxes one(ray);
+    const bool expected = one.crossed4(soa, 4, 0, t0, t1) & 1u;
+    // The same test with unwidened exits: where it differs, the widening decided.
+    __m128 entry = t0, exit = t1;
+    for (int a = 0; a < 3; ++a) {
+      const __m128 near_face = _mm_set1_ps(soa[4 * one.near_array[a]]);
+      const __m128 far_face = _mm_set1_ps(soa[4 * one.far_array[a]]);
+      entry = _mm_max_ps(_mm_mul_ps(_mm_sub_ps(near_face, one.origin[a]), one.inv_dir[a]), entry);
+      exit = _mm_min_ps(_mm_mul_ps(_mm_sub_ps(far_face, one.origin[a]), one.inv_dir[a]), exit);
+    }
+    decided_by_widening += expected != bool(_mm_movemask_ps(_mm_cmple_ps(entry, exit)) & 1);
+    for (const Isa isa : supported_isas()) {
+      EXPECT_EQ(kernel_for(isa).boxes_crossed(one, soa, 4, 0, 1, t0, t1), uint64_t{expected})
+          << isa_name(isa) << ", ray " << k;
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 20000u);
+  EXPECT_GT(decided_by_widening, 100u);
+}
+
 // A packet's rays against one box or a run of boxes, several rays at a time (RayBoxLanes, by
 // every kernel this CPU has: 4, 8 or 16 rays in lanes), say for every ray and box what the
 // one-ray test (RayBoxes) says:

@@ -44,17 +44,16 @@ inline uint32_t near_face_array(uint32_t a, bool toward_lo) { return toward_lo ?
 inline uint32_t far_face_array(uint32_t a, bool toward_lo) { return toward_lo ? a : 3 + a; }
 
 // A far slab distance computed in float moved outward by 3 gamma(3) of its magnitude
-// (whatever its sign): the exit every float slab test here compares with.
-// Its constants are read from memory as operands: set1 broadcasts them into registers
-// first, which in the 1D grid's walk is redone at every node a ray enters.
-alignas(16) inline constexpr float kSignBit4[4] = {-0.0f, -0.0f, -0.0f, -0.0f};
-alignas(16) inline constexpr float kExitWidening4[4] = {3 * kSlabGamma, 3 * kSlabGamma,
-                                                        3 * kSlabGamma, 3 * kSlabGamma};
-alignas(16) inline constexpr float kOne4[4] = {1.0f, 1.0f, 1.0f, 1.0f};
+// (whatever its sign): the exit every float slab test here compares with. That is the
+// distance times fl(1 + 3 gamma(3)) when it is positive (or +0) and fl(1 - 3 gamma(3)) when
+// it is negative (or -0): the larger of the two products, since rounding is monotone, so
+// no test of the sign is needed (NaN stays NaN, infinities stay). Every instruction set's
+// slab test computes it so, bit for bit the same.
+inline constexpr float kExitGrowth = 1.0f + 3 * kSlabGamma;
+inline constexpr float kExitShrink = 1.0f - 3 * kSlabGamma;
 inline __m128 widened_exit(__m128 exact_far) {
-  const __m128 outward =
-      _mm_or_ps(_mm_and_ps(exact_far, _mm_load_ps(kSignBit4)), _mm_load_ps(kExitWidening4));
-  return _mm_mul_ps(exact_far, _mm_add_ps(_mm_load_ps(kOne4), outward));
+  return _mm_max_ps(_mm_mul_ps(exact_far, _mm_set1_ps(kExitGrowth)),
+                    _mm_mul_ps(exact_far, _mm_set1_ps(kExitShrink)));
 }
 
 // The slab test in four lanes, each a ray and a box (their near and far faces per axis):

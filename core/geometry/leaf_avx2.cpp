@@ -82,6 +82,12 @@ struct Lanes {
   return hits;
 }
 
+// widened_exit (box_test.h) on eight lanes.
+inline __m256 widened_exit8(__m256 exact_far) {
+  return _mm256_max_ps(_mm256_mul_ps(exact_far, _mm256_set1_ps(kExitGrowth)),
+                       _mm256_mul_ps(exact_far, _mm256_set1_ps(kExitShrink)));
+}
+
 }  // namespace
 
 uint32_t test_lanes_avx2(const LeafView& leaf, uint32_t first, uint32_t lanes,
@@ -133,8 +139,6 @@ uint64_t test_rays_avx2(const LeafView& leaf, uint32_t tri, const RayLanes& rays
 uint64_t rays_crossed_avx2(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
                            uint32_t first, uint64_t which, uint64_t rays, uint64_t* crossing) {
   // slab_test4's operations, eight rays at a time.
-  const __m256 outward_size = _mm256_set1_ps(3 * kSlabGamma), one = _mm256_set1_ps(1.0f),
-               sign = _mm256_set1_ps(-0.0f);
   for (uint64_t boxes_left = which; boxes_left != 0; boxes_left &= boxes_left - 1)
     crossing[std::countr_zero(boxes_left)] = 0;
   for (uint64_t left = rays; left != 0;) {
@@ -152,8 +156,7 @@ uint64_t rays_crossed_avx2(const RayBoxLanes& lanes, const float* boxes, uint32_
         const __m256 far_face = _mm256_set1_ps(boxes[lanes.far_array[a] * stride + first + k]);
         const __m256 t_near = _mm256_mul_ps(_mm256_sub_ps(near_face, origin[a]), inv_dir[a]);
         const __m256 exact_far = _mm256_mul_ps(_mm256_sub_ps(far_face, origin[a]), inv_dir[a]);
-        const __m256 outward = _mm256_or_ps(_mm256_and_ps(exact_far, sign), outward_size);
-        const __m256 t_far = _mm256_mul_ps(exact_far, _mm256_add_ps(one, outward));
+        const __m256 t_far = widened_exit8(exact_far);
         entry = _mm256_max_ps(t_near, entry);
         exit = _mm256_min_ps(t_far, exit);
       }
@@ -169,8 +172,6 @@ uint64_t boxes_crossed_avx2(const RayBoxes& ray, const float* boxes, uint32_t st
                             uint32_t first, uint32_t count, __m128 t0, __m128 t1) {
   // slab_test4's operations, eight boxes at a time; the last eight read only boxes below
   // `count` (masked loads: the block may end at the end of its storage).
-  const __m256 outward_size = _mm256_set1_ps(3 * kSlabGamma), one = _mm256_set1_ps(1.0f),
-               sign = _mm256_set1_ps(-0.0f);
   __m256 origin[3], inv_dir[3];
   for (int a = 0; a < 3; ++a)
     origin[a] = _mm256_set1_ps(_mm_cvtss_f32(ray.origin[a])),
@@ -188,8 +189,7 @@ uint64_t boxes_crossed_avx2(const RayBoxes& ray, const float* boxes, uint32_t st
           _mm256_maskload_ps(boxes + ray.far_array[a] * stride + first + k, load);
       const __m256 t_near = _mm256_mul_ps(_mm256_sub_ps(near_face, origin[a]), inv_dir[a]);
       const __m256 exact_far = _mm256_mul_ps(_mm256_sub_ps(far_face, origin[a]), inv_dir[a]);
-      const __m256 outward = _mm256_or_ps(_mm256_and_ps(exact_far, sign), outward_size);
-      const __m256 t_far = _mm256_mul_ps(exact_far, _mm256_add_ps(one, outward));
+      const __m256 t_far = widened_exit8(exact_far);
       entry = _mm256_max_ps(t_near, entry);
       exit = _mm256_min_ps(t_far, exit);
     }
@@ -203,8 +203,6 @@ uint64_t bounds_crossed_avx2(const RayBoxLanes& lanes, const float* boxes, uint3
   // RayBoxBounds::may_cross4's operations, eight boxes at a time; masked loads as in
   // boxes_crossed_avx2.
   const RayBoxBounds& bounds = lanes.bounds;
-  const __m256 outward_size = _mm256_set1_ps(3 * kSlabGamma), one = _mm256_set1_ps(1.0f),
-               sign = _mm256_set1_ps(-0.0f);
   const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   uint64_t met = 0;
   for (uint32_t k = 0; k < count; k += 8) {
@@ -225,9 +223,8 @@ uint64_t bounds_crossed_avx2(const RayBoxLanes& lanes, const float* boxes, uint3
           _mm256_min_ps(_mm256_mul_ps(near_gap, inv_lo), _mm256_mul_ps(near_gap, inv_hi));
       const __m256 exact_far =
           _mm256_max_ps(_mm256_mul_ps(far_gap, inv_lo), _mm256_mul_ps(far_gap, inv_hi));
-      const __m256 outward = _mm256_or_ps(_mm256_and_ps(exact_far, sign), outward_size);
       entry = _mm256_max_ps(least_near, entry);
-      exit = _mm256_min_ps(_mm256_mul_ps(exact_far, _mm256_add_ps(one, outward)), exit);
+      exit = _mm256_min_ps(widened_exit8(exact_far), exit);
     }
     met |= uint64_t(uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(entry, exit, _CMP_NGT_UQ)))) << k;
   }

@@ -80,6 +80,15 @@ struct Lanes {
   return hits;
 }
 
+// widened_exit (box_test.h) on sixteen lanes. Merge-masked with every lane on: GCC 12's
+// _mm512_max_ps / _mm512_min_ps start from an undefined register and warn
+// (maybe-uninitialized); the operation is the same.
+inline __m512 widened_exit16(__m512 exact_far) {
+  return _mm512_mask_max_ps(exact_far, 0xFFFF,
+                            _mm512_mul_ps(exact_far, _mm512_set1_ps(kExitGrowth)),
+                            _mm512_mul_ps(exact_far, _mm512_set1_ps(kExitShrink)));
+}
+
 }  // namespace
 
 uint32_t test_lanes_avx512(const LeafView& leaf, uint32_t first, uint32_t lanes,
@@ -131,8 +140,6 @@ uint64_t test_rays_avx512(const LeafView& leaf, uint32_t tri, const RayLanes& ra
 uint64_t rays_crossed_avx512(const RayBoxLanes& lanes, const float* boxes, uint32_t stride,
                              uint32_t first, uint64_t which, uint64_t rays, uint64_t* crossing) {
   // slab_test4's operations, sixteen rays at a time.
-  const __m512 outward_size = _mm512_set1_ps(3 * kSlabGamma), one = _mm512_set1_ps(1.0f);
-  const __m512i sign = _mm512_set1_epi32(int32_t(0x80000000u));
   for (uint64_t boxes_left = which; boxes_left != 0; boxes_left &= boxes_left - 1)
     crossing[std::countr_zero(boxes_left)] = 0;
   for (uint64_t left = rays; left != 0;) {
@@ -150,13 +157,8 @@ uint64_t rays_crossed_avx512(const RayBoxLanes& lanes, const float* boxes, uint3
         const __m512 far_face = _mm512_set1_ps(boxes[lanes.far_array[a] * stride + first + k]);
         const __m512 t_near = _mm512_mul_ps(_mm512_sub_ps(near_face, origin[a]), inv_dir[a]);
         const __m512 exact_far = _mm512_mul_ps(_mm512_sub_ps(far_face, origin[a]), inv_dir[a]);
-        // The sign bit of exact_far on 3 gamma (AVX-512F has no float and/or: integer ones).
-        const __m512 outward = _mm512_castsi512_ps(
-            _mm512_or_si512(_mm512_and_si512(_mm512_castps_si512(exact_far), sign),
-                            _mm512_castps_si512(outward_size)));
-        const __m512 t_far = _mm512_mul_ps(exact_far, _mm512_add_ps(one, outward));
-        // Merge-masked with every lane on: GCC 12's _mm512_max_ps / _mm512_min_ps start from
-        // an undefined register and warn (maybe-uninitialized); the operation is the same.
+        const __m512 t_far = widened_exit16(exact_far);
+        // Merge-masked with every lane on, as in widened_exit16.
         entry = _mm512_mask_max_ps(entry, 0xFFFF, t_near, entry);
         exit = _mm512_mask_min_ps(exit, 0xFFFF, t_far, exit);
       }
@@ -171,8 +173,6 @@ uint64_t boxes_crossed_avx512(const RayBoxes& ray, const float* boxes, uint32_t 
                               uint32_t first, uint32_t count, __m128 t0, __m128 t1) {
   // slab_test4's operations, sixteen boxes at a time; masked loads read only boxes below
   // `count` (the block may end at the end of its storage).
-  const __m512 outward_size = _mm512_set1_ps(3 * kSlabGamma), one = _mm512_set1_ps(1.0f);
-  const __m512i sign = _mm512_set1_epi32(int32_t(0x80000000u));
   __m512 origin[3], inv_dir[3];
   for (int a = 0; a < 3; ++a)
     origin[a] = _mm512_set1_ps(_mm_cvtss_f32(ray.origin[a])),
@@ -189,11 +189,8 @@ uint64_t boxes_crossed_avx512(const RayBoxes& ray, const float* boxes, uint32_t 
           _mm512_maskz_loadu_ps(load, boxes + ray.far_array[a] * stride + first + k);
       const __m512 t_near = _mm512_mul_ps(_mm512_sub_ps(near_face, origin[a]), inv_dir[a]);
       const __m512 exact_far = _mm512_mul_ps(_mm512_sub_ps(far_face, origin[a]), inv_dir[a]);
-      const __m512 outward = _mm512_castsi512_ps(
-          _mm512_or_si512(_mm512_and_si512(_mm512_castps_si512(exact_far), sign),
-                          _mm512_castps_si512(outward_size)));
-      const __m512 t_far = _mm512_mul_ps(exact_far, _mm512_add_ps(one, outward));
-      // Merge-masked with every lane on, as in rays_crossed_avx512.
+      const __m512 t_far = widened_exit16(exact_far);
+      // Merge-masked with every lane on, as in widened_exit16.
       entry = _mm512_mask_max_ps(entry, 0xFFFF, t_near, entry);
       exit = _mm512_mask_min_ps(exit, 0xFFFF, t_far, exit);
     }
@@ -207,8 +204,6 @@ uint64_t bounds_crossed_avx512(const RayBoxLanes& lanes, const float* boxes, uin
   // RayBoxBounds::may_cross4's operations, sixteen boxes at a time; masked loads as in
   // boxes_crossed_avx512.
   const RayBoxBounds& bounds = lanes.bounds;
-  const __m512 outward_size = _mm512_set1_ps(3 * kSlabGamma), one = _mm512_set1_ps(1.0f);
-  const __m512i sign = _mm512_set1_epi32(int32_t(0x80000000u));
   uint64_t met = 0;
   for (uint32_t k = 0; k < count; k += 16) {
     const __mmask16 load = count - k >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << (count - k)) - 1);
@@ -224,17 +219,13 @@ uint64_t bounds_crossed_avx512(const RayBoxLanes& lanes, const float* boxes, uin
           _mm512_set1_ps(_mm_cvtss_f32(bounds.far_origin[a])));
       const __m512 inv_lo = _mm512_set1_ps(_mm_cvtss_f32(bounds.inv_lo[a])),
                    inv_hi = _mm512_set1_ps(_mm_cvtss_f32(bounds.inv_hi[a]));
-      // Merge-masked with every lane on, as in rays_crossed_avx512.
+      // Merge-masked with every lane on, as in widened_exit16.
       const __m512 least_near = _mm512_mask_min_ps(
           near_gap, 0xFFFF, _mm512_mul_ps(near_gap, inv_lo), _mm512_mul_ps(near_gap, inv_hi));
       const __m512 exact_far = _mm512_mask_max_ps(far_gap, 0xFFFF, _mm512_mul_ps(far_gap, inv_lo),
                                                   _mm512_mul_ps(far_gap, inv_hi));
-      const __m512 outward = _mm512_castsi512_ps(
-          _mm512_or_si512(_mm512_and_si512(_mm512_castps_si512(exact_far), sign),
-                          _mm512_castps_si512(outward_size)));
       entry = _mm512_mask_max_ps(entry, 0xFFFF, least_near, entry);
-      exit = _mm512_mask_min_ps(exit, 0xFFFF, _mm512_mul_ps(exact_far, _mm512_add_ps(one, outward)),
-                                exit);
+      exit = _mm512_mask_min_ps(exit, 0xFFFF, widened_exit16(exact_far), exit);
     }
     met |= uint64_t(_mm512_mask_cmp_ps_mask(load, entry, exit, _CMP_NGT_UQ)) << k;
   }

@@ -120,8 +120,9 @@ struct LaneMath {
       const Float inv_dir = 1.0f / load_float(&l.ray_dir[a][first]);
       const Float t_lo = (box.lo_float[a] - o) * inv_dir, t_hi = (box.hi_float[a] - o) * inv_dir;
       const Float t_near = t_lo < t_hi ? t_lo : t_hi, exact_far = t_lo > t_hi ? t_lo : t_hi;
-      const Float outward = Float((UInt(exact_far) & sign) | UInt(Float{} + 3 * kSlabGamma));
-      const Float t_far = exact_far * (1.0f + outward);
+      // widened_exit (box_test.h): the larger of the two products, NaN staying NaN.
+      const Float grown = exact_far * kExitGrowth, shrunk = exact_far * kExitShrink;
+      const Float t_far = grown > shrunk ? grown : shrunk;
       entry = t_near > entry ? t_near : entry;
       exit = t_far < exit ? t_far : exit;
     }
