@@ -163,7 +163,9 @@ struct Grid1D::RayWalk {
   double stop;        // stop_distance of the nearest hit so far (or of tmax)
   __m128 t_lo, t_hi;  // the content boxes' test interval: the box entry to `stop`, in float
   float tmax;
-  float start[3];  // where a ray starting inside the box starts (t0), in float: holds_start
+  // Where a ray starting inside the box starts (t0), in float, per axis in all four lanes:
+  // holds_start.
+  __m128 start[3];
   Hit best;
 };
 
