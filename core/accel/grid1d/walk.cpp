@@ -199,8 +199,8 @@ bool Grid1D::enter(Cursor& cursor, RayWalk& walk, Context& context, Recorder& re
 // ray that starts on a surface deep in the structure (a shadow ray) goes down to it with a
 // look at one box per node instead of a group test. The point is rounded to float, so the
 // answer may be wrong by a rounding either way; that costs a look, never a hit (a skipped
-// box test never changes an answer, it only passes over cells).
-// The group's four boxes are compared at once, without a branch.
+// box test never changes an answer, it only passes over cells). The point is compared with
+// all four boxes of the cell's group at once: no branch per face.
 inline bool Grid1D::holds_start(uint32_t id, int64_t cell, const RayWalk& walk) const {
   const float* group = box_group(&child_boxes_[nodes_[id].boxes], uint32_t(cell));
   __m128 inside = _mm_castsi128_ps(_mm_set1_epi32(-1));
