@@ -47,8 +47,10 @@ inline uint32_t far_face_array(uint32_t a, bool toward_lo) { return toward_lo ? 
 // (whatever its sign): the exit every float slab test here compares with. That is the
 // distance times fl(1 + 3 gamma(3)) when it is positive (or +0) and fl(1 - 3 gamma(3)) when
 // it is negative (or -0): the larger of the two products, since rounding is monotone, so
-// no test of the sign is needed (NaN stays NaN, infinities stay). Every instruction set's
-// slab test computes it so, bit for bit the same.
+// no test of the sign is needed (NaN stays NaN, infinities stay). It is nondecreasing in
+// the distance, so the least of the axes' widened exits is the widened least exit: a slab
+// test takes the least of its axes' exact far distances (NaN ones dropped) and widens that
+// once. Every instruction set's slab test computes it so, bit for bit the same.
 inline constexpr float kExitGrowth = 1.0f + 3 * kSlabGamma;
 inline constexpr float kExitShrink = 1.0f - 3 * kSlabGamma;
 inline __m128 widened_exit(__m128 exact_far) {
@@ -60,15 +62,15 @@ inline __m128 widened_exit(__m128 exact_far) {
 // whether the ray crosses the box somewhere in [t0, t1].
 inline uint32_t slab_test4(const __m128 near_face[3], const __m128 far_face[3],
                            const __m128 origin[3], const __m128 inv_dir[3], __m128 t0, __m128 t1) {
-  __m128 entry = t0, exit = t1;
+  __m128 entry = t0, least_far = _mm_set1_ps(INFINITY);
   for (int a = 0; a < 3; ++a) {
     const __m128 t_near = _mm_mul_ps(_mm_sub_ps(near_face[a], origin[a]), inv_dir[a]);
     const __m128 exact_far = _mm_mul_ps(_mm_sub_ps(far_face[a], origin[a]), inv_dir[a]);
-    const __m128 t_far = widened_exit(exact_far);
     // maxps / minps return their second operand when either is NaN: NaN lanes drop out.
     entry = _mm_max_ps(t_near, entry);
-    exit = _mm_min_ps(t_far, exit);
+    least_far = _mm_min_ps(exact_far, least_far);
   }
+  const __m128 exit = _mm_min_ps(widened_exit(least_far), t1);
   return uint32_t(_mm_movemask_ps(_mm_cmple_ps(entry, exit)));
 }
 
@@ -152,7 +154,7 @@ struct RayBoxBounds {
   // Bits 0..3 for boxes first .. first + 3: clear when no ray of the bounds crosses the box.
   uint32_t may_cross4(const float* boxes, uint32_t stride, uint32_t first,
                       const uint32_t near_array[3], const uint32_t far_array[3]) const {
-    __m128 entry = t0_lo, exit = t1_hi;
+    __m128 entry = t0_lo, greatest_far = _mm_set1_ps(INFINITY);
     for (int a = 0; a < 3; ++a) {
       if (!(axes >> a & 1)) continue;
       // A ray's near distance is at least the near gap times one of the two 1 / dir bounds,
@@ -166,10 +168,12 @@ struct RayBoxBounds {
           _mm_min_ps(_mm_mul_ps(near_gap, inv_lo[a]), _mm_mul_ps(near_gap, inv_hi[a]));
       const __m128 exact_far =
           _mm_max_ps(_mm_mul_ps(far_gap, inv_lo[a]), _mm_mul_ps(far_gap, inv_hi[a]));
-      // slab_test4's widening, which grows with the distance: applied to the greatest.
       entry = _mm_max_ps(least_near, entry);
-      exit = _mm_min_ps(widened_exit(exact_far), exit);
+      greatest_far = _mm_min_ps(exact_far, greatest_far);
     }
+    // slab_test4's widening, which grows with the distance: applied to the least over the
+    // axes of each axis's greatest far distance.
+    const __m128 exit = _mm_min_ps(widened_exit(greatest_far), t1_hi);
     return uint32_t(_mm_movemask_ps(_mm_cmpngt_ps(entry, exit)));  // NaN: may cross
   }
 };

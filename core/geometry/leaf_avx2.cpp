@@ -150,16 +150,16 @@ uint64_t rays_crossed_avx2(const RayBoxLanes& lanes, const float* boxes, uint32_
       inv_dir[a] = _mm256_load_ps(lanes.inv_dir[a] + group);
     for (uint64_t boxes_left = which; boxes_left != 0; boxes_left &= boxes_left - 1) {
       const auto k = uint32_t(std::countr_zero(boxes_left));
-      __m256 entry = t0, exit = t1;
+      __m256 entry = t0, least_far = _mm256_set1_ps(INFINITY);
       for (int a = 0; a < 3; ++a) {
         const __m256 near_face = _mm256_set1_ps(boxes[lanes.near_array[a] * stride + first + k]);
         const __m256 far_face = _mm256_set1_ps(boxes[lanes.far_array[a] * stride + first + k]);
         const __m256 t_near = _mm256_mul_ps(_mm256_sub_ps(near_face, origin[a]), inv_dir[a]);
         const __m256 exact_far = _mm256_mul_ps(_mm256_sub_ps(far_face, origin[a]), inv_dir[a]);
-        const __m256 t_far = widened_exit8(exact_far);
         entry = _mm256_max_ps(t_near, entry);
-        exit = _mm256_min_ps(t_far, exit);
+        least_far = _mm256_min_ps(exact_far, least_far);
       }
+      const __m256 exit = _mm256_min_ps(widened_exit8(least_far), t1);
       crossing[k] |= uint64_t(uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(entry, exit, _CMP_LE_OQ))))
                      << group;
     }
@@ -181,7 +181,7 @@ uint64_t boxes_crossed_avx2(const RayBoxes& ray, const float* boxes, uint32_t st
   uint64_t met = 0;
   for (uint32_t k = 0; k < count; k += 8) {
     const __m256i load = _mm256_cmpgt_epi32(_mm256_set1_epi32(int(count - k)), lane);
-    __m256 entry = start, exit = end;
+    __m256 entry = start, least_far = _mm256_set1_ps(INFINITY);
     for (int a = 0; a < 3; ++a) {
       const __m256 near_face =
           _mm256_maskload_ps(boxes + ray.near_array[a] * stride + first + k, load);
@@ -189,10 +189,10 @@ uint64_t boxes_crossed_avx2(const RayBoxes& ray, const float* boxes, uint32_t st
           _mm256_maskload_ps(boxes + ray.far_array[a] * stride + first + k, load);
       const __m256 t_near = _mm256_mul_ps(_mm256_sub_ps(near_face, origin[a]), inv_dir[a]);
       const __m256 exact_far = _mm256_mul_ps(_mm256_sub_ps(far_face, origin[a]), inv_dir[a]);
-      const __m256 t_far = widened_exit8(exact_far);
       entry = _mm256_max_ps(t_near, entry);
-      exit = _mm256_min_ps(t_far, exit);
+      least_far = _mm256_min_ps(exact_far, least_far);
     }
+    const __m256 exit = _mm256_min_ps(widened_exit8(least_far), end);
     met |= uint64_t(uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(entry, exit, _CMP_LE_OQ)))) << k;
   }
   return count == 64 ? met : met & ((uint64_t{1} << count) - 1);
@@ -208,7 +208,7 @@ uint64_t bounds_crossed_avx2(const RayBoxLanes& lanes, const float* boxes, uint3
   for (uint32_t k = 0; k < count; k += 8) {
     const __m256i load = _mm256_cmpgt_epi32(_mm256_set1_epi32(int(count - k)), lane);
     __m256 entry = _mm256_set1_ps(_mm_cvtss_f32(bounds.t0_lo)),
-           exit = _mm256_set1_ps(_mm_cvtss_f32(bounds.t1_hi));
+           greatest_far = _mm256_set1_ps(INFINITY);
     for (int a = 0; a < 3; ++a) {
       if (!(bounds.axes >> a & 1)) continue;
       const __m256 near_gap =
@@ -224,8 +224,10 @@ uint64_t bounds_crossed_avx2(const RayBoxLanes& lanes, const float* boxes, uint3
       const __m256 exact_far =
           _mm256_max_ps(_mm256_mul_ps(far_gap, inv_lo), _mm256_mul_ps(far_gap, inv_hi));
       entry = _mm256_max_ps(least_near, entry);
-      exit = _mm256_min_ps(widened_exit8(exact_far), exit);
+      greatest_far = _mm256_min_ps(exact_far, greatest_far);
     }
+    const __m256 exit =
+        _mm256_min_ps(widened_exit8(greatest_far), _mm256_set1_ps(_mm_cvtss_f32(bounds.t1_hi)));
     met |= uint64_t(uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(entry, exit, _CMP_NGT_UQ)))) << k;
   }
   return count == 64 ? met : met & ((uint64_t{1} << count) - 1);

@@ -151,17 +151,17 @@ uint64_t rays_crossed_avx512(const RayBoxLanes& lanes, const float* boxes, uint3
       inv_dir[a] = _mm512_load_ps(lanes.inv_dir[a] + group);
     for (uint64_t boxes_left = which; boxes_left != 0; boxes_left &= boxes_left - 1) {
       const auto k = uint32_t(std::countr_zero(boxes_left));
-      __m512 entry = t0, exit = t1;
+      __m512 entry = t0, least_far = _mm512_set1_ps(INFINITY);
       for (int a = 0; a < 3; ++a) {
         const __m512 near_face = _mm512_set1_ps(boxes[lanes.near_array[a] * stride + first + k]);
         const __m512 far_face = _mm512_set1_ps(boxes[lanes.far_array[a] * stride + first + k]);
         const __m512 t_near = _mm512_mul_ps(_mm512_sub_ps(near_face, origin[a]), inv_dir[a]);
         const __m512 exact_far = _mm512_mul_ps(_mm512_sub_ps(far_face, origin[a]), inv_dir[a]);
-        const __m512 t_far = widened_exit16(exact_far);
         // Merge-masked with every lane on, as in widened_exit16.
         entry = _mm512_mask_max_ps(entry, 0xFFFF, t_near, entry);
-        exit = _mm512_mask_min_ps(exit, 0xFFFF, t_far, exit);
+        least_far = _mm512_mask_min_ps(least_far, 0xFFFF, exact_far, least_far);
       }
+      const __m512 exit = _mm512_mask_min_ps(t1, 0xFFFF, widened_exit16(least_far), t1);
       crossing[k] |= uint64_t(_mm512_cmp_ps_mask(entry, exit, _CMP_LE_OQ)) << group;
     }
     left &= ~(uint64_t{0xFFFF} << group);
@@ -181,7 +181,7 @@ uint64_t boxes_crossed_avx512(const RayBoxes& ray, const float* boxes, uint32_t 
   uint64_t met = 0;
   for (uint32_t k = 0; k < count; k += 16) {
     const __mmask16 load = count - k >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << (count - k)) - 1);
-    __m512 entry = start, exit = end;
+    __m512 entry = start, least_far = _mm512_set1_ps(INFINITY);
     for (int a = 0; a < 3; ++a) {
       const __m512 near_face =
           _mm512_maskz_loadu_ps(load, boxes + ray.near_array[a] * stride + first + k);
@@ -189,11 +189,11 @@ uint64_t boxes_crossed_avx512(const RayBoxes& ray, const float* boxes, uint32_t 
           _mm512_maskz_loadu_ps(load, boxes + ray.far_array[a] * stride + first + k);
       const __m512 t_near = _mm512_mul_ps(_mm512_sub_ps(near_face, origin[a]), inv_dir[a]);
       const __m512 exact_far = _mm512_mul_ps(_mm512_sub_ps(far_face, origin[a]), inv_dir[a]);
-      const __m512 t_far = widened_exit16(exact_far);
       // Merge-masked with every lane on, as in widened_exit16.
       entry = _mm512_mask_max_ps(entry, 0xFFFF, t_near, entry);
-      exit = _mm512_mask_min_ps(exit, 0xFFFF, t_far, exit);
+      least_far = _mm512_mask_min_ps(least_far, 0xFFFF, exact_far, least_far);
     }
+    const __m512 exit = _mm512_mask_min_ps(end, 0xFFFF, widened_exit16(least_far), end);
     met |= uint64_t(_mm512_mask_cmp_ps_mask(load, entry, exit, _CMP_LE_OQ)) << k;
   }
   return met;
@@ -208,7 +208,7 @@ uint64_t bounds_crossed_avx512(const RayBoxLanes& lanes, const float* boxes, uin
   for (uint32_t k = 0; k < count; k += 16) {
     const __mmask16 load = count - k >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << (count - k)) - 1);
     __m512 entry = _mm512_set1_ps(_mm_cvtss_f32(bounds.t0_lo)),
-           exit = _mm512_set1_ps(_mm_cvtss_f32(bounds.t1_hi));
+           greatest_far = _mm512_set1_ps(INFINITY);
     for (int a = 0; a < 3; ++a) {
       if (!(bounds.axes >> a & 1)) continue;
       const __m512 near_gap = _mm512_sub_ps(
@@ -225,8 +225,10 @@ uint64_t bounds_crossed_avx512(const RayBoxLanes& lanes, const float* boxes, uin
       const __m512 exact_far = _mm512_mask_max_ps(far_gap, 0xFFFF, _mm512_mul_ps(far_gap, inv_lo),
                                                   _mm512_mul_ps(far_gap, inv_hi));
       entry = _mm512_mask_max_ps(entry, 0xFFFF, least_near, entry);
-      exit = _mm512_mask_min_ps(exit, 0xFFFF, widened_exit16(exact_far), exit);
+      greatest_far = _mm512_mask_min_ps(greatest_far, 0xFFFF, exact_far, greatest_far);
     }
+    const __m512 end = _mm512_set1_ps(_mm_cvtss_f32(bounds.t1_hi));
+    const __m512 exit = _mm512_mask_min_ps(end, 0xFFFF, widened_exit16(greatest_far), end);
     met |= uint64_t(_mm512_mask_cmp_ps_mask(load, entry, exit, _CMP_NGT_UQ)) << k;
   }
   return met;
