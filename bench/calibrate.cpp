@@ -157,7 +157,9 @@ void add_triangle(Scene& scene, glm::vec3 a, glm::vec3 b, glm::vec3 c) {
 // `stride`-th cell (and the last), in a corner of the yz square, so that cutting the row
 // makes unit cells; and in every `panel_stride`-th cell (0: none) a panel across the cell's
 // middle, x = i + 0.5, covering the half y + z <= 1 of the square; and `slivers` triangles
-// spanning the whole row in planes z = y - 0.1 - 0.02 k. The rays of rays_along_row (at
+// in planes z = y - 0.1 - 0.02 k from x = 0 to the middle of the last cell but one: in every
+// cell but the last (a triangle in every cell of a cut would be kept once at its node and
+// met once). The rays of rays_along_row (at
 // y in [0.55, 0.65], z - y in [0.04, 0.14], nearly along x) miss every triangle but cross
 // the panels' and slivers' boxes: the walk looks at each cell holding one (a step), tests
 // what it holds, and meets the slivers again in every cell after the first (rejections).
@@ -182,8 +184,9 @@ Scene cell_row(int cells, int stride, int panel_stride, int slivers) {
   }
   for (int k = 0; k < slivers; ++k) {
     const float shift = -0.1f - 0.02f * float(k) / float(slivers);
-    add_triangle(scene, {0.0f, 0.3f, 0.3f + shift}, {float(cells), 0.3f, 0.3f + shift},
-                 {float(cells), 0.95f, 0.95f + shift});
+    const float end = float(cells) - 1.5f;
+    add_triangle(scene, {0.0f, 0.3f, 0.3f + shift}, {end, 0.3f, 0.3f + shift},
+                 {end, 0.95f, 0.95f + shift});
   }
   return scene;
 }
@@ -275,14 +278,15 @@ std::vector<Scenario> make_scenarios(std::mt19937_64& rng) {
     scenarios.push_back({"steps, " + std::to_string(cells) + " cells", cell_row(cells, 1, 2, 0),
                          shaping_params(cells, 1), rays_along_row(cells, kRaysPerScenario, rng),
                          kStepTerm, [=](const Grid1D& grid) { return root_cells(grid) / 2.0; }});
-  // Slivers spanning the row: met again, and rejected, in every cell after the first.
+  // Slivers along the row: met again, and rejected, in every cell holding them after the
+  // first (all cells but the last).
   constexpr int kSliverRowCells = 32;
   for (const int slivers : {16, 64})
     scenarios.push_back({"rejections, " + std::to_string(slivers) + " slivers",
                          cell_row(kSliverRowCells, 1, 0, slivers),
                          shaping_params(kSliverRowCells, 1),
                          rays_along_row(kSliverRowCells, kRaysPerScenario, rng), kRejectionTerm,
-                         [=](const Grid1D& grid) { return slivers * (root_cells(grid) - 1.0); }});
+                         [=](const Grid1D& grid) { return slivers * (root_cells(grid) - 2.0); }});
   // Halved on x, y, z in turn down to single triangles: 3 log2(n) descents per ray.
   for (const int levels : {1, 2, 3, 4}) {
     const int n = 1 << levels;

@@ -245,7 +245,10 @@ TEST(Grid1DWalk, RecordsTheCellsTheWalkLooksAt) {
     multi_cell += walk->cells.size() > 1;
     for (size_t k = 0; k < walk->cells.size(); ++k) {
       const WalkCell& cell = walk->cells[k];
-      EXPECT_EQ(grid.voxel(cell.voxel).status.load(), Grid1D::kLeaf) << "ray " << i;
+      // A subdivided voxel's spanning triangles, or a leaf holding triangles.
+      EXPECT_EQ(grid.voxel(cell.voxel).status.load(),
+                cell.spanning ? Grid1D::kSplit : Grid1D::kLeaf)
+          << "ray " << i;
       EXPECT_GT(grid.voxel(cell.voxel).tri_count, 0u) << "ray " << i << " cell " << k;
       if (k > 0) {
         ASSERT_LE(walk->cells[k - 1].t_enter, cell.t_enter) << "ray " << i;
@@ -314,7 +317,7 @@ TEST(Grid1DWalk, RaysGoFromTheStadiumsChainStraightIntoTheCluster) {
     ASSERT_TRUE(walk.has_value());
     EXPECT_EQ(walk->hit.id, expected[i].id) << "ray " << i;
     for (const WalkCell& cell : walk->cells) {
-      EXPECT_NE(grid.voxel(cell.voxel).status.load(), Grid1D::kSplit)
+      EXPECT_TRUE(cell.spanning || grid.voxel(cell.voxel).status.load() != Grid1D::kSplit)
           << "ray " << i << " searched subdivided voxel " << cell.voxel;
       for (const WalkDescent& descent : cell.descents) {
         ++descents;
@@ -375,15 +378,21 @@ TEST(Grid1DWalk, RaysStartingOnSurfacesGoStraightDownToTheirStart) {
   for (size_t i = 0; i < rays.size(); i += 4 * 5, ++walks) {  // centres' shadow rays
     const std::optional<Walk> walk = grid.record_walk(rays[i], *context);
     ASSERT_TRUE(walk.has_value());
-    ASSERT_FALSE(walk->cells.empty()) << "ray " << i;
-    const WalkCell& first = walk->cells.front();
-    EXPECT_EQ(first.entered_axis, -1) << "ray " << i;
-    EXPECT_TRUE(holds(first.voxel, rays[i].origin)) << "ray " << i;
-    EXPECT_GT(first.tests, 0u) << "ray " << i;
-    for (const WalkDescent& descent : first.descents)
-      EXPECT_TRUE(holds(descent.voxel, rays[i].origin))
-          << "ray " << i << " went down into voxel " << descent.voxel;
-    deep_starts += first.descents.size() >= 3;
+    // The first leaf, after the spanning triangles of the nodes on the way down to it.
+    const auto first =
+        std::ranges::find_if(walk->cells, [](const WalkCell& c) { return !c.spanning; });
+    ASSERT_NE(first, walk->cells.end()) << "ray " << i;
+    EXPECT_EQ(first->entered_axis, -1) << "ray " << i;
+    EXPECT_TRUE(holds(first->voxel, rays[i].origin)) << "ray " << i;
+    EXPECT_GT(first->tests, 0u) << "ray " << i;
+    size_t descents = 0;
+    for (auto cell = walk->cells.begin(); cell <= first; ++cell)
+      for (const WalkDescent& descent : cell->descents) {
+        ++descents;
+        EXPECT_TRUE(holds(descent.voxel, rays[i].origin))
+            << "ray " << i << " went down into voxel " << descent.voxel;
+      }
+    deep_starts += descents >= 3;
   }
   EXPECT_GT(deep_starts, walks / 2);
   RecordProperty("walks", int(walks));
@@ -415,11 +424,67 @@ TEST(Grid1DWalk, AChainEndingInALeafIsSearchedAsThatLeaf) {
     const std::optional<Walk> walk = grid.record_walk(rays[i], *context);
     ASSERT_TRUE(walk.has_value());
     for (const WalkCell& cell : walk->cells) {
+      if (cell.spanning) continue;  // the stadium's ground, at the root
       ASSERT_NE(grid.voxel(cell.voxel).status.load(), Grid1D::kSplit) << "ray " << i;
       searched += grid.voxel(cell.voxel).tri_count > 0;
     }
   }
   EXPECT_GT(searched, 0u);
+}
+
+// Triangles that lie in every cell of a cut (the stadium's ground and back wall span the
+// whole box along the root's axis) are kept once at the cut voxel's node, in none of its
+// cells, and tested as the walk goes down into it: no voxel below the root lists them, the
+// walks of rays toward the ground beside the cluster search the root's spanning triangles
+// first and find their answer there, and every answer is brute force's, one at a time, in
+// packets, any-hit, eagerly built and on two threads.
+TEST(Grid1DWalk, TrianglesSpanningACutAreTestedAtItsNode) {
+  const Scene scene = test::stadium_scene(2500);
+  const uint32_t first_ground = uint32_t(scene.triangle_count()) - 4;  // merged last
+  std::vector<Ray> rays;
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 48; ++x) {
+      Ray ray;
+      ray.origin = {4.0f, 3.0f, 6.0f};
+      ray.dir = glm::vec3(-6.0f + 0.25f * float(x), -2.0f, -6.0f + 0.25f * float(y)) - ray.origin;
+      rays.push_back(ray);
+    }
+  const std::vector<Hit> expected = brute_answers_hitting(scene, rays, rays.size() / 2);
+  Grid1D grid{AccelParams{}};
+  grid.build(scene);
+  EXPECT_EQ(test::count_mismatches("one at a time", test::trace_all(grid, rays, 1), expected), 0u);
+  EXPECT_EQ(
+      test::count_mismatches("packets of 64", test::trace_all(grid, rays, 1, false, 64), expected),
+      0u);
+  EXPECT_EQ(test::count_any_hit_mismatches(rays, test::trace_all(grid, rays, 2, true), expected),
+            0u);
+  Grid1D eager{AccelParams{}};
+  eager.build(scene);
+  eager.build_all();
+  EXPECT_EQ(test::count_mismatches("eager", test::trace_all(eager, rays, 2), expected), 0u);
+  ASSERT_EQ(eager.voxel(0).status.load(), Grid1D::kSplit);
+  EXPECT_EQ(std::ranges::count_if(eager.voxel_triangles(0),
+                                  [&](uint32_t tri) { return tri >= first_ground; }),
+            4);
+  for (uint32_t id = 1; id < eager.voxel_count(); ++id)
+    for (const uint32_t tri : eager.voxel_triangles(id))
+      ASSERT_LT(tri, first_ground) << "voxel " << id << " lists spanning triangle " << tri;
+  const auto context = grid.make_context();
+  size_t ground_hits = 0;
+  for (size_t i = 0; i < rays.size(); i += 5) {
+    const std::optional<Walk> walk = grid.record_walk(rays[i], *context);
+    ASSERT_TRUE(walk.has_value());
+    EXPECT_EQ(walk->hit, expected[i]) << "ray " << i;
+    if (expected[i].id < int32_t(first_ground)) continue;
+    ++ground_hits;
+    ASSERT_FALSE(walk->cells.empty()) << "ray " << i;
+    const WalkCell& first = walk->cells.front();
+    EXPECT_TRUE(first.spanning) << "ray " << i;
+    EXPECT_EQ(first.voxel, 0u) << "ray " << i;
+    EXPECT_GT(first.tests, 0u) << "ray " << i;
+    EXPECT_EQ(first.hit, expected[i].id) << "ray " << i;
+  }
+  EXPECT_GT(ground_hits, 100u);
 }
 
 // A packet whose rays all go one way walks together: a 64x64 view straight down onto the

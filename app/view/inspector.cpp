@@ -133,7 +133,10 @@ void walk_row(ViewState& state, int i, bool follow) {
   ImGui::TableNextColumn();
   ImGui::Text("%u", c.depth);
   ImGui::TableNextColumn();
-  cell_text(c.entered_axis < 0 ? "start" : std::string(1, "xyz"[c.entered_axis % 3]));
+  // A subdivided voxel's spanning triangles, searched on the way down, are not entered.
+  cell_text(c.spanning           ? "spanning"
+            : c.entered_axis < 0 ? "start"
+                                 : std::string(1, "xyz"[c.entered_axis % 3]));
   ImGui::TableNextColumn();
   ImGui::Text("%u", c.climbed);
   ImGui::TableNextColumn();

@@ -44,6 +44,7 @@ nlohmann::json to_json(const Walk& walk) {
                      {"entered_axis", cell.entered_axis},
                      {"climbed", cell.climbed},
                      {"descents", std::move(descents)},
+                     {"spanning", cell.spanning},
                      {"culled", cell.culled},
                      {"tests", cell.tests},
                      {"mailbox_rejections", cell.rejections},

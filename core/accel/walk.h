@@ -39,6 +39,9 @@ struct WalkCell {
   int entered_axis = -1;              // the axis of the wall it came through; -1 for the first cell
   uint32_t climbed = 0;               // levels climbed to make the step into it (§5.3)
   std::vector<WalkDescent> descents;  // levels gone down to reach it
+  // Not a leaf but a subdivided voxel's spanning triangles (those that lie in each of its
+  // cells, kept once at the voxel), searched as the walk went down into it.
+  bool spanning = false;
   bool culled = false;      // the ray's segment in it missed its contents' box: nothing looked at
   uint32_t tests = 0;       // ray/triangle tests made in it
   uint32_t rejections = 0;  // triangles the mailbox skipped (tested in an earlier cell)

@@ -341,17 +341,15 @@ uint32_t Grid1D::settle(uint32_t id, Context& context) const {
   return ref;
 }
 
-std::vector<uint32_t> Grid1D::leaf_ids(uint32_t id) const {
-  const Voxel& voxel = voxels_[id];
+std::vector<uint32_t> Grid1D::leaf_ids(uint32_t id, std::span<const uint32_t> tris) const {
   double lo[3], hi[3];
   voxel_box(id, lo, hi);
-  std::vector<uint32_t> ids(voxel.tri_count);
-  for (uint32_t i = 0; i < voxel.tri_count; ++i) {
-    const uint32_t tri = tri_indices_[voxel.tri_begin + i];
-    const double* box = input_.box(tri);
+  std::vector<uint32_t> ids(tris.size());
+  for (size_t i = 0; i < tris.size(); ++i) {
+    const double* box = input_.box(tris[i]);
     bool inside = true;
     for (int a = 0; a < 3; ++a) inside &= box[a] >= lo[a] && box[a + 3] <= hi[a];
-    ids[i] = inside ? tri | kOnlyHere : tri;
+    ids[i] = inside ? tris[i] | kOnlyHere : tris[i];
   }
   return ids;
 }
@@ -362,7 +360,8 @@ uint32_t Grid1D::make_leaf(uint32_t id) const {
   const uint32_t count = voxels_[id].tri_count;
   const uint32_t unbuilt = child_ref::make(child_ref::kUnbuilt, id);
   if (!reserve_bytes(LeafStore::bytes_for(count))) return unbuilt;
-  const uint32_t handle = leaves_.add(leaf_ids(id), input_);
+  const uint32_t handle =
+      leaves_.add(leaf_ids(id, {&tri_indices_[voxels_[id].tri_begin], count}), input_);
   if (handle == LeafStore::kFull || handle > child_ref::kMaxPayload) return unbuilt;
   return child_ref::make(child_ref::kLeaf, handle);
 }
@@ -517,12 +516,16 @@ bool Grid1D::sort_into_cells(uint32_t id, int axis, int g, const double lo[3], c
   const std::span<const uint32_t> tris(&tri_indices_[voxel.tri_begin], voxel.tri_count);
   CellSpread tri_spread(tris.size(), g);
   bool separates = false;
+  cut.spanning.clear();
   for (size_t i = 0; i < tris.size(); ++i) {
     const double* box = input_.box(tris[i]);
     const CellRange range{locate(std::max(box[axis], lo[axis])),
                           locate(std::min(box[axis + 3], hi[axis]))};
-    separates |= range.first > 0 || range.last < g - 1;
-    tri_spread.add(i, range);
+    const bool spans = range.first == 0 && range.last == g - 1;
+    separates |= !spans;
+    // A triangle in every cell goes to the node (Node::spanning), in no cell.
+    if (spans) cut.spanning.push_back(tris[i]);
+    tri_spread.add(i, spans ? CellRange{1, 0} : range);
   }
   if (!separates) return false;
   cut.axis = axis;
@@ -574,12 +577,22 @@ uint32_t Grid1D::state_for(uint32_t axis, uint64_t granularity) const {
 // visible to the threads that then walk into the voxel.
 uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
   const auto g = uint32_t(cut.granularity);
-  const uint64_t bytes = g * (sizeof(Voxel) + sizeof(Region)) + sizeof(Node) +
-                         sizeof(uint32_t) * (1 + g + cut.tris.size() + cut.samples.size()) +
-                         sizeof(float) * grouped_box_floats(g);
+  const uint64_t bytes =
+      g * (sizeof(Voxel) + sizeof(Region)) + sizeof(Node) +
+      sizeof(uint32_t) * (1 + g + cut.tris.size() + cut.samples.size()) +
+      sizeof(float) * grouped_box_floats(g) +
+      (cut.spanning.empty() ? 0 : LeafStore::bytes_for(uint32_t(cut.spanning.size())));
   if (voxels_.size() + g >= size_t(child_ref::kMaxPayload) || !reserve_bytes(bytes)) {
     ++over_budget_;
     return kNone;
+  }
+  uint32_t spanning = Node::kNoSpanning;
+  if (!cut.spanning.empty()) {
+    spanning = leaves_.add(leaf_ids(id, cut.spanning), input_);
+    if (spanning == LeafStore::kFull) {
+      ++over_budget_;
+      return kNone;
+    }
   }
   // Each array holds at most the budget, which reserve_bytes has checked: these appends
   // fail only if one array alone outgrows it, and then the voxel stays a leaf.
@@ -610,6 +623,7 @@ uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
   record.granularity = uint16_t(g);
   record.sole_cell = sole_cell(cut);
   record.axis = uint8_t(axis);
+  record.spanning = spanning;
   node_voxels_[node] = id;
 
   Voxel& voxel = voxels_[id];
@@ -639,9 +653,11 @@ uint32_t Grid1D::walk_above(uint32_t node, int a) const {
   return node != kNone && nodes_[node].sole_cell != Node::kManyCells ? nodes_[node].above[a] : node;
 }
 
-// The one cell of a cut that holds triangles (Node::sole_cell), or Node::kManyCells.
+// The one cell of a cut that holds triangles (Node::sole_cell), or Node::kManyCells; never
+// a cut that keeps spanning triangles at its node, which the walk must go down into.
 uint16_t Grid1D::sole_cell(const Cut& cut) {
   uint16_t sole = Node::kManyCells;
+  if (!cut.spanning.empty()) return sole;
   for (int i = 0; i < cut.granularity; ++i) {
     if (cut.tri_offsets[i + 1] == cut.tri_offsets[i]) continue;
     if (sole != Node::kManyCells) return Node::kManyCells;

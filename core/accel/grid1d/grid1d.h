@@ -10,7 +10,9 @@
 // per subdivided voxel, one cache line; a child reference per cell that carries the child's
 // kind, so that an empty or unbuilt cell costs no load; per cell a content box, so that the
 // walk steps only into cells whose contents the ray meets, docs/design.md §1.3; each leaf's
-// triangles stored once in the kernel's structure-of-arrays form, core/geometry/leaf.h).
+// triangles stored once in the kernel's structure-of-arrays form, core/geometry/leaf.h; the
+// triangles that lie in every cell of a cut kept once at its node and tested as the walk goes
+// down into it).
 // Build and walk are in build.cpp and walk.cpp.
 #pragma once
 #include <array>
@@ -106,6 +108,11 @@ class Grid1D final : public Accelerator {
   // Read access for tests, the viewer and statistics (valid once tracing has stopped).
   size_t voxel_count() const { return voxels_.size(); }
   const Voxel& voxel(uint32_t id) const { return voxels_[id]; }
+  // The triangles sorted into the voxel (a cut voxel's spanning ones included; its cells'
+  // lists leave those out).
+  std::span<const uint32_t> voxel_triangles(uint32_t id) const {
+    return {&tri_indices_[voxels_[id].tri_begin], voxels_[id].tri_count};
+  }
   const StateInfo& state_info(uint32_t id) const { return states_[id]; }
   size_t state_count() const { return states_.size(); }
   // The voxel's box, from its slab on each axis's global grid (exact walls).
@@ -133,8 +140,11 @@ class Grid1D final : public Accelerator {
   struct Cursor;
   template <bool AnyHit, class Recorder>
   Hit trace(const Ray& ray, Context& context, Recorder& recorder) const;
-  template <class Recorder>
+  template <bool AnyHit, class Recorder>
   bool enter(Cursor& cursor, RayWalk& walk, Context& context, Recorder& recorder) const;
+  template <bool AnyHit, class Recorder>
+  bool test_spanning(uint32_t node, double t_enter, RayWalk& walk, Context& context,
+                     Recorder& recorder) const;
   bool next_cell(Cursor& cursor, RayWalk& walk, Context& context) const;
   int64_t seek(uint32_t node, int64_t from, bool from_is_current, Cursor& cursor, RayWalk& walk,
                Context& context) const;
@@ -196,8 +206,9 @@ class Grid1D final : public Accelerator {
   bool reserve_bytes(uint64_t bytes) const;
   // `first` (an append's result) unless the append failed: then a UsageError naming `what`.
   size_t fits_budget(size_t first, const char* what) const;
-  // The triangles of a voxel that is a leaf, with kOnlyHere where a triangle lies in it alone.
-  std::vector<uint32_t> leaf_ids(uint32_t voxel) const;
+  // Triangles `tris` of voxel `voxel` as a leaf block lists them: with kOnlyHere where a
+  // triangle lies in the voxel alone.
+  std::vector<uint32_t> leaf_ids(uint32_t voxel, std::span<const uint32_t> tris) const;
 
   AccelParams params_;
   Isa isa_;

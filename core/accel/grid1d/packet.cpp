@@ -162,6 +162,10 @@ void Grid1D::visit_node(uint32_t id, uint64_t rays, PacketWalk& walk) const {
   const float* boxes = &child_boxes_[node.boxes];
   const RayBoxLanes& box_lanes = walk.context.ray_box_lanes;
   TraceCounters& counters = walk.context.counters;
+  // The node's spanning triangles first (Node::spanning): their hits move the rays' stop
+  // distances in before the cells are tested.
+  if (node.spanning != Node::kNoSpanning)
+    search_leaf<AnyHit>(leaves_.view(node.spanning), rays, walk);
   const uint32_t groups = (g + 3) / 4;
   for (uint32_t k = 0; k < groups; ++k) {
     const uint32_t first = 4 * (ascending ? k : groups - 1 - k);

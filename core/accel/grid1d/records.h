@@ -45,7 +45,15 @@ struct alignas(64) Grid1D::Node {
   // one cell, that every ray toward the cluster crosses.
   uint16_t sole_cell;
   uint8_t axis;
+  // The voxel's triangles that span it along the cut axis (they would lie in every cell),
+  // kept here once instead of in each cell: a LeafStore handle, or kNoSpanning. The walk
+  // tests them as it goes down into the node, before it looks at the cells, so that the
+  // cells' content boxes leave them out (a ground plane across a stadium no longer makes
+  // every cell's box as large as the cell) and a hit on them stops the walk early. Never on
+  // a chain voxel (sole_cell): the walk passes those without going down into them.
+  uint32_t spanning;
   static constexpr uint16_t kManyCells = UINT16_MAX;
+  static constexpr uint32_t kNoSpanning = UINT32_MAX;
 };
 
 // A cell's child reference: its kind in the top two bits, so that the walk knows what it
@@ -82,6 +90,7 @@ struct Grid1D::Cut {
   int axis = 0;
   int granularity = 0;  // < 2: stays a leaf
   std::vector<uint32_t> tri_offsets, tris;
+  std::vector<uint32_t> spanning;  // triangles spanning all g cells: kept at the node
   std::vector<uint32_t> sample_offsets, samples;
   double rays = 0;
 };

@@ -28,6 +28,7 @@ struct Grid1D::NullRecorder {
   void descent(uint32_t /*node*/, int64_t /*cell*/, StateCase /*state_case*/) {}
   void discard_descents() {}
   void cell(uint32_t /*voxel*/, double /*t_enter*/, int /*axis*/, uint32_t /*climbed*/) {}
+  void spanning(uint32_t /*voxel*/, double /*t_enter*/) {}
   void tested(uint32_t /*count*/) {}
   void rejected() {}
   void searched(int32_t /*best*/) {}
@@ -59,6 +60,11 @@ class Grid1D::WalkRecorder {
     pending_.clear();
     cell.hit = walk_.cells.empty() ? -1 : walk_.cells.back().hit;
     walk_.cells.push_back(std::move(cell));
+  }
+  // The spanning triangles of the voxel of the node the walk just went down into.
+  void spanning(uint32_t voxel, double t_enter) {
+    cell(voxel, t_enter, -1, 0);
+    walk_.cells.back().spanning = true;
   }
   void tested(uint32_t count) { walk_.cells.back().tests += count; }
   void rejected() { ++walk_.cells.back().rejections; }
@@ -126,7 +132,7 @@ Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
       walk.start[a] = _mm_set1_ps(float(line.origin[a] + line.t0 * line.dir[a]));
   }
   do {
-    if (!enter(cursor, walk, context, recorder)) continue;
+    if (!enter<AnyHit>(cursor, walk, context, recorder)) continue;
     ++counters.traversal_steps;
     if constexpr (Recorder::kRecords)
       recorder.cell(cursor_voxel(cursor), line.shift + cursor.t,
@@ -163,7 +169,7 @@ uint32_t Grid1D::cursor_voxel(const Cursor& cursor) const {
 // cell, from the one the ray is in, whose contents the ray meets. False when there is none
 // before the ray leaves the node (or the cell is empty): the walk then goes on from the
 // walls, which `seek` has set.
-template <class Recorder>
+template <bool AnyHit, class Recorder>
 bool Grid1D::enter(Cursor& cursor, RayWalk& walk, Context& context, Recorder& recorder) const {
   for (;;) {
     switch (child_ref::kind(cursor.ref)) {
@@ -182,6 +188,9 @@ bool Grid1D::enter(Cursor& cursor, RayWalk& walk, Context& context, Recorder& re
     }
     const uint32_t id = child_ref::payload(cursor.ref);
     const int64_t local = descend(id, cursor.t, cursor.entered, walk, context, recorder);
+    if (nodes_[id].spanning != Node::kNoSpanning &&
+        test_spanning<AnyHit>(id, cursor.t, walk, context, recorder))
+      return false;
     const int64_t cell = cursor.entered == Cursor::kAtStart && holds_start(id, local, walk)
                              ? local
                              : seek(id, local, true, cursor, walk, context);
@@ -192,6 +201,30 @@ bool Grid1D::enter(Cursor& cursor, RayWalk& walk, Context& context, Recorder& re
     cursor.node = id, cursor.local = uint32_t(cell);
     cursor.ref = refs_[nodes_[id].children + uint32_t(cell)].load(std::memory_order_acquire);
   }
+}
+
+// A node's spanning triangles (Node::spanning), tested as the ray goes down into it (once:
+// a ray goes down into a node at most once), before its cells: a hit moves the stop distance
+// in, so that the cells beyond it are passed over. Testing them wherever the ray is in the
+// node changes no answer: the hit is a hit, and the walk still searches every cell before it
+// (docs/design.md §1.3). True when an any-hit ray has its answer: its stop distance is then
+// -inf, so that the walk ends at the next wall.
+template <bool AnyHit, class Recorder>
+bool Grid1D::test_spanning(uint32_t id, double t_enter, RayWalk& walk, Context& context,
+                           Recorder& recorder) const {
+  ++context.counters.traversal_steps;  // a search, as a leaf's
+  if constexpr (Recorder::kRecords) recorder.spanning(node_voxels_[id], walk.line.shift + t_enter);
+  const bool found = test_leaf<AnyHit>(leaves_.view(nodes_[id].spanning), kernel_, *walk.prepared,
+                                       {walk.boxes, walk.t_lo, walk.t_hi}, walk.ray_id, walk.tmax,
+                                       walk.best, context.mailbox, context.counters, recorder);
+  recorder.searched(walk.best.id);
+  if (!found) return false;
+  if (AnyHit) {
+    walk.stop = -kInf;
+    return true;
+  }
+  set_stop(walk.line, walk.tmax, walk.stop, walk.t_hi);
+  return false;
 }
 
 // Whether cell `cell` of node `id` has the ray's start point in its content box. The ray
