@@ -66,6 +66,21 @@ std::vector<Hit> brute_answers_hitting(const Scene& scene, const std::vector<Ray
   return expected;
 }
 
+// Builds `lazy` and `eager` (build_all) on `scene` and expects brute's answers `expected` to
+// `rays` from both: the lazy one one ray at a time and in packets of 64, the eager one on two
+// threads.
+void expect_lazy_and_eager_match(const Scene& scene, const std::vector<Ray>& rays,
+                                 const std::vector<Hit>& expected, Grid1D& lazy, Grid1D& eager) {
+  lazy.build(scene);
+  EXPECT_EQ(test::count_mismatches("one at a time", test::trace_all(lazy, rays, 1), expected), 0u);
+  EXPECT_EQ(
+      test::count_mismatches("packets of 64", test::trace_all(lazy, rays, 1, false, 64), expected),
+      0u);
+  eager.build(scene);
+  eager.build_all();
+  EXPECT_EQ(test::count_mismatches("eager", test::trace_all(eager, rays, 2), expected), 0u);
+}
+
 class Grid1DMatchesBrute : public testing::TestWithParam<test::StructureRun> {};
 
 TEST_P(Grid1DMatchesBrute, SameIdAndTOnEveryRay) {
@@ -288,16 +303,8 @@ TEST(Grid1DWalk, RaysGoFromTheStadiumsChainStraightIntoTheCluster) {
       rays.push_back(ray);
     }
   const std::vector<Hit> expected = brute_answers_hitting(scene, rays, rays.size() / 4);
-  Grid1D grid{AccelParams{}};
-  grid.build(scene);
-  EXPECT_EQ(test::count_mismatches("one at a time", test::trace_all(grid, rays, 1), expected), 0u);
-  EXPECT_EQ(
-      test::count_mismatches("packets of 64", test::trace_all(grid, rays, 1, false, 64), expected),
-      0u);
-  Grid1D eager{AccelParams{}};
-  eager.build(scene);
-  eager.build_all();
-  EXPECT_EQ(test::count_mismatches("eager", test::trace_all(eager, rays, 2), expected), 0u);
+  Grid1D grid{AccelParams{}}, eager{AccelParams{}};
+  expect_lazy_and_eager_match(scene, rays, expected, grid, eager);
   std::vector<bool> chain(grid.voxel_count(), false);
   uint32_t chain_depth = 0;
   for (uint32_t id = 0; id < grid.voxel_count(); ++id) {
@@ -450,18 +457,10 @@ TEST(Grid1DWalk, TrianglesSpanningACutAreTestedAtItsNode) {
       rays.push_back(ray);
     }
   const std::vector<Hit> expected = brute_answers_hitting(scene, rays, rays.size() / 2);
-  Grid1D grid{AccelParams{}};
-  grid.build(scene);
-  EXPECT_EQ(test::count_mismatches("one at a time", test::trace_all(grid, rays, 1), expected), 0u);
-  EXPECT_EQ(
-      test::count_mismatches("packets of 64", test::trace_all(grid, rays, 1, false, 64), expected),
-      0u);
+  Grid1D grid{AccelParams{}}, eager{AccelParams{}};
+  expect_lazy_and_eager_match(scene, rays, expected, grid, eager);
   EXPECT_EQ(test::count_any_hit_mismatches(rays, test::trace_all(grid, rays, 2, true), expected),
             0u);
-  Grid1D eager{AccelParams{}};
-  eager.build(scene);
-  eager.build_all();
-  EXPECT_EQ(test::count_mismatches("eager", test::trace_all(eager, rays, 2), expected), 0u);
   ASSERT_EQ(eager.voxel(0).status.load(), Grid1D::kSplit);
   EXPECT_EQ(std::ranges::count_if(eager.voxel_triangles(0),
                                   [&](uint32_t tri) { return tri >= first_ground; }),
