@@ -360,8 +360,7 @@ uint32_t Grid1D::make_leaf(uint32_t id) const {
   const uint32_t count = voxels_[id].tri_count;
   const uint32_t unbuilt = child_ref::make(child_ref::kUnbuilt, id);
   if (!reserve_bytes(LeafStore::bytes_for(count))) return unbuilt;
-  const uint32_t handle =
-      leaves_.add(leaf_ids(id, {&tri_indices_[voxels_[id].tri_begin], count}), input_);
+  const uint32_t handle = leaves_.add(leaf_ids(id, voxel_triangles(id)), input_);
   if (handle == LeafStore::kFull || handle > child_ref::kMaxPayload) return unbuilt;
   return child_ref::make(child_ref::kLeaf, handle);
 }
@@ -506,14 +505,13 @@ VoxelCostReport Grid1D::cost_report(uint32_t id) const {
 
 bool Grid1D::sort_into_cells(uint32_t id, int axis, int g, const double lo[3], const double hi[3],
                              std::span<const Crossing> crossing, Cut& cut) const {
-  const Voxel& voxel = voxels_[id];
   const Region& region = regions_[id];
   const StateInfo& grid = states_[axis];  // the scene box on this axis
   const uint64_t granularity = region.grid[axis] * uint64_t(g);
   const CellLocator locate{grid.origin, double(granularity) / grid.extent,
                            double(region.cell[axis] * uint64_t(g)), double(g - 1)};
 
-  const std::span<const uint32_t> tris(&tri_indices_[voxel.tri_begin], voxel.tri_count);
+  const std::span<const uint32_t> tris = voxel_triangles(id);
   CellSpread tri_spread(tris.size(), g);
   bool separates = false;
   cut.spanning.clear();

@@ -145,6 +145,8 @@ class Grid1D final : public Accelerator {
   template <bool AnyHit, class Recorder>
   bool test_spanning(uint32_t node, double t_enter, RayWalk& walk, Context& context,
                      Recorder& recorder) const;
+  template <bool AnyHit, class Recorder>
+  bool search(const LeafView& leaf, RayWalk& walk, Context& context, Recorder& recorder) const;
   bool next_cell(Cursor& cursor, RayWalk& walk, Context& context) const;
   int64_t seek(uint32_t node, int64_t from, bool from_is_current, Cursor& cursor, RayWalk& walk,
                Context& context) const;

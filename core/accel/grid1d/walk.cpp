@@ -121,7 +121,6 @@ Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
   walk.best = Hit{};
   set_stop(line, walk.tmax, walk.stop, walk.t_hi);
   walk.t_lo = box_test_start(line);
-  TraceCounters& counters = context.counters;
 
   Cursor cursor{root_ref_.load(std::memory_order_acquire), line.t0, Cursor::kLocated, 0, kNone, 0};
   // A ray that starts inside the scene box is located at its start point, which content
@@ -133,16 +132,11 @@ Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
   }
   do {
     if (!enter<AnyHit>(cursor, walk, context, recorder)) continue;
-    ++counters.traversal_steps;
     if constexpr (Recorder::kRecords)
       recorder.cell(cursor_voxel(cursor), line.shift + cursor.t,
                     std::max(cursor.entered, int(Cursor::kLocated)), cursor.climbed);
-    const bool found = test_leaf<AnyHit>(leaf_of(cursor.ref, context), kernel_, prepared,
-                                         {&boxes, walk.t_lo, walk.t_hi}, walk.ray_id, walk.tmax,
-                                         walk.best, context.mailbox, counters, recorder);
-    recorder.searched(walk.best.id);
-    if (AnyHit && found) return walk.best;
-    if (found) set_stop(line, walk.tmax, walk.stop, walk.t_hi);
+    if (search<AnyHit>(leaf_of(cursor.ref, context), walk, context, recorder) && AnyHit)
+      return walk.best;
   } while (next_cell(cursor, walk, context));
   return walk.best;
 }
@@ -212,19 +206,26 @@ bool Grid1D::enter(Cursor& cursor, RayWalk& walk, Context& context, Recorder& re
 template <bool AnyHit, class Recorder>
 bool Grid1D::test_spanning(uint32_t id, double t_enter, RayWalk& walk, Context& context,
                            Recorder& recorder) const {
-  ++context.counters.traversal_steps;  // a search, as a leaf's
   if constexpr (Recorder::kRecords) recorder.spanning(node_voxels_[id], walk.line.shift + t_enter);
-  const bool found = test_leaf<AnyHit>(leaves_.view(nodes_[id].spanning), kernel_, *walk.prepared,
+  if (!search<AnyHit>(leaves_.view(nodes_[id].spanning), walk, context, recorder) || !AnyHit)
+    return false;
+  walk.stop = -kInf;
+  return true;
+}
+
+// Searches a leaf block for the ray (§5, step 4; a leaf's, or a node's spanning triangles):
+// a nearer hit moves the stop distance in. True when the ray found a hit (an any-hit ray's
+// answer).
+template <bool AnyHit, class Recorder>
+bool Grid1D::search(const LeafView& leaf, RayWalk& walk, Context& context,
+                    Recorder& recorder) const {
+  ++context.counters.traversal_steps;
+  const bool found = test_leaf<AnyHit>(leaf, kernel_, *walk.prepared,
                                        {walk.boxes, walk.t_lo, walk.t_hi}, walk.ray_id, walk.tmax,
                                        walk.best, context.mailbox, context.counters, recorder);
   recorder.searched(walk.best.id);
-  if (!found) return false;
-  if (AnyHit) {
-    walk.stop = -kInf;
-    return true;
-  }
-  set_stop(walk.line, walk.tmax, walk.stop, walk.t_hi);
-  return false;
+  if (found && !AnyHit) set_stop(walk.line, walk.tmax, walk.stop, walk.t_hi);
+  return found;
 }
 
 // Whether cell `cell` of node `id` has the ray's start point in its content box. The ray
