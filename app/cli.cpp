@@ -278,6 +278,22 @@ Parser view_parser() {
           }};
 }
 
+// `export suite:NAME`: a bench scene as the bench composes it (a mesh placed in another, a
+// ground added), and on stdout the bench's camera and light, so that rays, trace and view can
+// look at what the bench measured. One line per figure: "camera STRING", "light X,Y,Z".
+void export_suite_scene(const std::string& name, const std::string& out) {
+  const std::vector<std::string> suite = bench_suite(false);
+  if (std::find(suite.begin(), suite.end(), name) == suite.end())
+    throw InputError("suite:" + name + ": not a bench scene (" + joined(suite) + ")");
+  std::string skipped;
+  const std::optional<BenchScene> bench = load_bench_scene(name, find_assets_dir(), skipped);
+  if (!bench) throw InputError(skipped);
+  export_obj(*bench->scene, out);
+  if (bench->camera) std::printf("camera %s\n", to_string(*bench->camera).c_str());
+  if (bench->light)
+    std::printf("light %.9g,%.9g,%.9g\n", bench->light->x, bench->light->y, bench->light->z);
+}
+
 Parser export_parser() {
   auto out = std::make_shared<std::string>();
   return {{string_flag("--out", "FILE.obj", "the OBJ file to write", *out)},
@@ -285,7 +301,11 @@ Parser export_parser() {
             const std::string scene = scene_argument("export", words.positionals);
             require("export", "--out FILE.obj", *out);
             return Command{[scene, out = *out] {
-              export_obj(load_scene(scene), out);
+              constexpr std::string_view kSuite = "suite:";
+              if (scene.rfind(kSuite, 0) == 0)
+                export_suite_scene(scene.substr(kSuite.size()), out);
+              else
+                export_obj(load_scene(scene), out);
               return 0;
             }};
           }};
@@ -431,7 +451,9 @@ constexpr CommandSpec kCommands[] = {
      "flags run it unattended.",
      view_parser},
     {"export", "SCENE --out FILE.obj",
-     "Writes any scene, built-ins included, as OBJ with the same triangles in the same order.",
+     "Writes any scene, built-ins included, as OBJ with the same triangles in the same order. "
+     "SCENE suite:NAME is a bench scene as the bench composes it (NAME one of the suite's); its "
+     "camera and light are then printed (\"camera STRING\", \"light X,Y,Z\").",
      export_parser},
     {"rays", "SCENE --out FILE.rays [FLAGS]",
      "Writes the primary rays a one-sample render shoots (pixel centres, rows from the top-left "

@@ -430,6 +430,63 @@ TEST(Cli, ExportWritesEveryTriangle) {
   EXPECT_EQ(faces, 4096);
 }
 
+// The vertices and faces of an OBJ that export wrote ("v x y z", "f a b c" lines).
+struct ObjText {
+  std::vector<glm::vec3> vertices;
+  int faces = 0;
+};
+ObjText read_obj_text(const std::string& path) {
+  ObjText obj;
+  std::istringstream text(slurp(path));
+  for (std::string line; std::getline(text, line);) {
+    std::istringstream words(line);
+    std::string tag;
+    words >> tag;
+    if (tag == "f") ++obj.faces;
+    if (tag != "v") continue;
+    glm::vec3 v;
+    words >> v.x >> v.y >> v.z;
+    obj.vertices.push_back(v);
+  }
+  return obj;
+}
+
+// `export suite:f15` writes the bench's F-15 scene: the mesh as it is, then a ground square of
+// two triangles half a unit below its lowest point (bench/scenes.cpp), and prints the bench's
+// camera, which `rays --camera` takes as it is.
+TEST(Cli, ExportOfASuiteSceneIsTheBenchsComposition) {
+  const std::string f15 = gs::test::asset_file("f15/f15.obj");
+  if (f15.empty()) GTEST_SKIP() << gs::test::missing_asset("f15/f15.obj");
+  const std::string plain = temp_path("f15_plain.obj"), suite = temp_path("f15_suite.obj");
+  ASSERT_EQ(run("export " + quoted(f15) + " --out " + quoted(plain)).status, 0);
+  const Outcome result =
+      gs::test::run_gridscope("export suite:f15 --out " + quoted(suite),
+                              "env GRIDSCOPE_ASSETS=" + quoted(gs::test::assets_dir()));
+  ASSERT_EQ(result.status, 0) << result.err;
+  const ObjText mesh = read_obj_text(plain), scene = read_obj_text(suite);
+  ASSERT_EQ(scene.faces, mesh.faces + 2);
+  ASSERT_EQ(scene.vertices.size(), mesh.vertices.size() + 4);
+  float lowest = std::numeric_limits<float>::infinity();
+  for (size_t i = 0; i < mesh.vertices.size(); ++i) {
+    EXPECT_EQ(scene.vertices[i], mesh.vertices[i]) << i;
+    lowest = std::min(lowest, mesh.vertices[i].z);
+  }
+  for (size_t i = mesh.vertices.size(); i < scene.vertices.size(); ++i)
+    EXPECT_FLOAT_EQ(scene.vertices[i].z, lowest - 0.5f) << i;
+  ASSERT_EQ(result.out.rfind("camera ", 0), 0u) << result.out;
+  const std::string camera = result.out.substr(7, result.out.find('\n') - 7);
+  EXPECT_EQ(result.out.find("light"), std::string::npos) << result.out;
+  EXPECT_EQ(run("rays " + quoted(suite) + " --size 4x4 --camera " + quoted(camera) + " --out " +
+                quoted(temp_path("f15_suite.rays")))
+                .status,
+            0);
+}
+
+TEST(Cli, ExportOfAnUnknownSuiteSceneIsAnInputError) {
+  expect_failure(run("export suite:stadium --out " + quoted(temp_path("stadium.obj"))), 1,
+                 "suite:stadium");
+}
+
 // `trace --walk 5` re-traces ray 5 ("from above", hand-computed: id 1 at t = 3) with the
 // recorder: the walk ends on that hit, cell after cell.
 TEST(Cli, WalkOfOneRayEndsOnItsHit) {
