@@ -245,7 +245,7 @@ std::vector<Ray> short_rays_inside(int n, int count, std::mt19937_64& rng) {
 AccelParams shaping_params(int max_granularity, int max_depth) {
   AccelParams params;
   params.repcost = params.travcost = params.vertcost = params.subcost = 0.0;
-  params.max_granularity = max_granularity;
+  params.max_granularity = params.max_root_granularity = max_granularity;
   params.max_depth = max_depth;
   return params;
 }

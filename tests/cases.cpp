@@ -175,6 +175,8 @@ std::string describe(const StructureRun& run) {
   std::ostringstream text;
   text << run.accel << (run.eager ? " eager" : " lazy");
   if (p.max_granularity != defaults.max_granularity) text << " g=" << p.max_granularity;
+  if (p.max_root_granularity != defaults.max_root_granularity)
+    text << " root g=" << p.max_root_granularity;
   if (p.axis != defaults.axis) text << " axis=cost";
   if (p.max_depth != defaults.max_depth) text << " depth=" << p.max_depth;
   if (p.leaf_size != defaults.leaf_size) text << " leaf=" << p.leaf_size;

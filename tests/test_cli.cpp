@@ -816,15 +816,18 @@ TEST(Cli, EachStructureTakesExactlyTheFlagsItReads) {
       "reader-costs.json",
       R"({"intcost": 2, "repcost": 0.5, "travcost": 3, "vertcost": 4, "subcost": 5})");
   const std::map<std::string, std::string> value = {
-      {"--intcost", "2"},         {"--repcost", "0.5"},     {"--travcost", "2"},
-      {"--vertcost", "3"},        {"--subcost", "1"},       {"--costs", costs},
-      {"--max-granularity", "8"}, {"--axis", "cost"},       {"--max-depth", "3"},
-      {"--leaf-size", "2"},       {"--density", "0.5"},     {"--memory-budget", "1M"},
-      {"--sample-every", "4"},    {"--build-threads", "1"}, {"--oracle", "x.hits"}};
-  const std::vector<std::string> grid1d = {"--intcost",         "--repcost",     "--travcost",
-                                           "--vertcost",        "--subcost",     "--costs",
-                                           "--max-granularity", "--axis",        "--max-depth",
-                                           "--memory-budget",   "--sample-every"};
+      {"--intcost", "2"},         {"--repcost", "0.5"},
+      {"--travcost", "2"},        {"--vertcost", "3"},
+      {"--subcost", "1"},         {"--costs", costs},
+      {"--max-granularity", "8"}, {"--axis", "cost"},
+      {"--max-depth", "3"},       {"--leaf-size", "2"},
+      {"--density", "0.5"},       {"--memory-budget", "1M"},
+      {"--sample-every", "4"},    {"--build-threads", "1"},
+      {"--oracle", "x.hits"},     {"--max-root-granularity", "4"}};
+  const std::vector<std::string> grid1d = {
+      "--intcost",   "--repcost",       "--travcost",        "--vertcost",
+      "--subcost",   "--costs",         "--max-granularity", "--axis",
+      "--max-depth", "--memory-budget", "--sample-every",    "--max-root-granularity"};
   const std::vector<std::string> tree = {"--max-depth", "--leaf-size", "--memory-budget"};
   const std::map<std::string, std::vector<std::string>> reads = {
       {"grid1d", grid1d},    {"uniform", {"--density", "--memory-budget"}},

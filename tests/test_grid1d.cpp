@@ -33,13 +33,14 @@ const std::vector<Case>& cases() {
   return all;
 }
 
-// A preset: grid1d with one maximum granularity and axis rule, lazy or eager, traced by one
-// thread or two, one ray at a time or in packets of consecutive rays; the two-thread presets
-// run the sampling pass first, as the command line does.
+// A preset: grid1d with one maximum granularity (the root's too: the paper's structure, and
+// roots cut into 64 cells) and axis rule, lazy or eager, traced by one thread or two, one
+// ray at a time or in packets of consecutive rays; the two-thread presets run the sampling
+// pass first, as the command line does. The default root cap has its own test below.
 test::StructureRun preset(int max_granularity, AxisRule axis, bool eager, int threads,
                           size_t packet = 0) {
   AccelParams params;
-  params.max_granularity = max_granularity;
+  params.max_granularity = params.max_root_granularity = max_granularity;
   params.axis = axis;
   return {"grid1d", params, threads == 2, eager, threads, packet};
 }
@@ -342,9 +343,9 @@ TEST(Grid1DWalk, RaysGoFromTheStadiumsChainStraightIntoTheCluster) {
 // triangle's centre (and from its first corner) toward a point light above the stadium, and
 // back the way a reflection would go. They start deep in the structure, in cells whose
 // contents hold the start point, and the walk goes straight down to them. Nearest and any
-// hit get brute force's answers one at a time, in packets and on two threads; every descent
-// of a recorded walk to its first cell goes into a voxel holding the start point, and that
-// cell holds it too.
+// hit get brute force's answers one at a time, in packets and on two threads; a recorded
+// walk tests its first triangles before any step across a wall, every descent to that cell
+// goes into a voxel holding the start point, and that cell holds it too.
 TEST(Grid1DWalk, RaysStartingOnSurfacesGoStraightDownToTheirStart) {
   const Scene scene = test::stadium_scene(2500);
   const glm::vec3 light(4.0f, 30.0f, 6.0f);
@@ -385,13 +386,13 @@ TEST(Grid1DWalk, RaysStartingOnSurfacesGoStraightDownToTheirStart) {
   for (size_t i = 0; i < rays.size(); i += 4 * 5, ++walks) {  // centres' shadow rays
     const std::optional<Walk> walk = grid.record_walk(rays[i], *context);
     ASSERT_TRUE(walk.has_value());
-    // The first leaf, after the spanning triangles of the nodes on the way down to it.
+    // The first cell that tests anything: the start's leaf, or a node on the way down to it
+    // that keeps the start's triangle as a spanning one (the leaf then may hold nothing).
     const auto first =
-        std::ranges::find_if(walk->cells, [](const WalkCell& c) { return !c.spanning; });
+        std::ranges::find_if(walk->cells, [](const WalkCell& c) { return c.tests > 0; });
     ASSERT_NE(first, walk->cells.end()) << "ray " << i;
     EXPECT_EQ(first->entered_axis, -1) << "ray " << i;
     EXPECT_TRUE(holds(first->voxel, rays[i].origin)) << "ray " << i;
-    EXPECT_GT(first->tests, 0u) << "ray " << i;
     size_t descents = 0;
     for (auto cell = walk->cells.begin(); cell <= first; ++cell)
       for (const WalkDescent& descent : cell->descents) {
@@ -608,6 +609,49 @@ TEST(Grid1DStates, RaysPerStateCountFirstUses) {
     entering += box.clip(ray, t0, t1);
   }
   EXPECT_EQ(grid.state_rays(grid.voxel(0).state), entering);
+}
+
+// The root is cut into at most --max-root-granularity cells, at the cost function's cheapest
+// g within that cap, and the voxels below it keep the full range; answers stay brute force's
+// for any root cap, 1 (the root is one leaf) included.
+TEST(Grid1DBuild, TheRootCapBoundsTheRootAlone) {
+  const Case& c = cases()[0];
+  AccelParams paper;
+  paper.max_root_granularity = paper.max_granularity;
+  Grid1D uncapped(paper);
+  uncapped.build(c.scene);
+  uncapped.build_all();
+  ASSERT_GT(int(uncapped.voxel(0).granularity), AccelParams{}.max_root_granularity)
+      << c.name << ": the cost function must want more root cells than the cap for this test";
+
+  Grid1D capped{AccelParams{}};
+  capped.build(c.scene);
+  capped.build_all();
+  const Grid1D::Voxel& root = capped.voxel(0);
+  ASSERT_EQ(root.status.load(), Grid1D::kSplit);
+  const VoxelCostReport report = capped.cost_report(0);
+  double best = INFINITY;
+  int best_g = 0, widest = 0;
+  for (const auto& alt : report.alternatives) {
+    if (alt.axis != root.axis) continue;
+    widest = std::max(widest, alt.granularity);
+    if (alt.cost.total < best) best = alt.cost.total, best_g = alt.granularity;
+  }
+  EXPECT_EQ(widest, AccelParams{}.max_root_granularity);
+  EXPECT_EQ(int(root.granularity), best_g);
+  uint32_t widest_below = 0;
+  for (uint32_t id = 1; id < capped.voxel_count(); ++id)
+    if (capped.voxel(id).status.load() == Grid1D::kSplit)
+      widest_below = std::max<uint32_t>(widest_below, capped.voxel(id).granularity);
+  EXPECT_GT(int(widest_below), AccelParams{}.max_root_granularity);
+
+  for (int root_cap : {1, 3}) {
+    AccelParams params;
+    params.max_root_granularity = root_cap;
+    Grid1D lazy(params), eager(params);
+    expect_lazy_and_eager_match(c.scene, c.rays, c.expected, lazy, eager);
+    EXPECT_EQ(eager.voxel(0).status.load(), root_cap == 1 ? Grid1D::kLeaf : Grid1D::kSplit);
+  }
 }
 
 // The inspector's cost report is the build's own decision, recomputed.

@@ -48,6 +48,8 @@ const char* paper_section(Param param) {
       return "The paper §6.2: a code timing the cost function (§6) weighs.";
     case Param::max_granularity:
       return "The paper §6.5: the cost function tries each g up to this.";
+    case Param::max_root_granularity:
+      return "The paper §6.5 caps g to encourage recursion at the top; the root is capped lower.";
     case Param::axis:
       return "The paper cuts the axes in turn; choosing by cost is its future work.";
     case Param::sample_every:

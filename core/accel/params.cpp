@@ -28,7 +28,7 @@ constexpr ParamSpec cost(Param param, std::string_view flag, std::string_view ke
           .help = help};
 }
 
-constexpr std::array<ParamSpec, 14> kTable = {{
+constexpr std::array<ParamSpec, 15> kTable = {{
     cost(Param::intcost, "--intcost", "intcost", &P::intcost,
          "Intcost (§6.2): the cost of one ray/triangle test"),
     cost(Param::repcost, "--repcost", "repcost", &P::repcost,
@@ -48,6 +48,15 @@ constexpr std::array<ParamSpec, 14> kTable = {{
      .lo = 1,
      .hi = kMaxGranularity,
      .help = "most cells a voxel is cut into (the paper: 20)"},
+    {.param = Param::max_root_granularity,
+     .flag = "--max-root-granularity",
+     .key = "max_root_granularity",
+     .field = &P::max_root_granularity,
+     .kind = ParamKind::integer,
+     .value_name = "N",
+     .lo = 1,
+     .hi = kMaxGranularity,
+     .help = "most cells the root (the scene box) is cut into; --max-granularity caps it too"},
     {.param = Param::axis,
      .flag = "--axis",
      .key = "axis",

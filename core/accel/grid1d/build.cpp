@@ -414,16 +414,19 @@ double Grid1D::mean_clipped_size(uint32_t id, int axis, const double lo[3],
   return sum / voxel.tri_count;
 }
 
-// The most cells each axis may take: max granularity, the minimum cell width, and the
-// absolute granularity cap; 0 for an axis that cannot be cut.
+// The most cells each axis may take: max granularity (the root's own below it), the minimum
+// cell width, and the absolute granularity cap; 0 for an axis that cannot be cut.
 std::array<int, 3> Grid1D::granularity_limits(uint32_t id, const VoxelFigures& figures,
                                               const double lo[3], const double hi[3]) const {
   const Region& region = regions_[id];
   const double min_width = input_.clip.min_cell_width(lo, hi);
+  const int level_cap = region.depth == 0
+                            ? std::min(params_.max_granularity, params_.max_root_granularity)
+                            : params_.max_granularity;
   std::array<int, 3> limits{};
   for (int a = 0; a < 3; ++a) {
     const double thin_limit = min_width > 0.0 ? figures.extent[a] / min_width : 0.0;
-    const double max_g = std::min({double(params_.max_granularity), std::floor(thin_limit),
+    const double max_g = std::min({double(level_cap), std::floor(thin_limit),
                                    double(kMaxAbsoluteGranularity / region.grid[a])});
     limits[a] = max_g < 2.0 ? 0 : int(max_g);
   }
