@@ -611,6 +611,15 @@ TEST(Grid1DStates, RaysPerStateCountFirstUses) {
   EXPECT_EQ(grid.state_rays(grid.voxel(0).state), entering);
 }
 
+// The cheapest g the cost report lists on `axis` (the first of equals, as the build takes it).
+int cheapest_granularity(const VoxelCostReport& report, int axis) {
+  double best = INFINITY;
+  int best_g = 0;
+  for (const auto& alt : report.alternatives)
+    if (alt.axis == axis && alt.cost.total < best) best = alt.cost.total, best_g = alt.granularity;
+  return best_g;
+}
+
 // The root is cut into at most --max-root-granularity cells, at the cost function's cheapest
 // g within that cap, and the voxels below it keep the full range; answers stay brute force's
 // for any root cap, 1 (the root is one leaf) included.
@@ -630,15 +639,11 @@ TEST(Grid1DBuild, TheRootCapBoundsTheRootAlone) {
   const Grid1D::Voxel& root = capped.voxel(0);
   ASSERT_EQ(root.status.load(), Grid1D::kSplit);
   const VoxelCostReport report = capped.cost_report(0);
-  double best = INFINITY;
-  int best_g = 0, widest = 0;
-  for (const auto& alt : report.alternatives) {
-    if (alt.axis != root.axis) continue;
-    widest = std::max(widest, alt.granularity);
-    if (alt.cost.total < best) best = alt.cost.total, best_g = alt.granularity;
-  }
+  int widest = 0;
+  for (const auto& alt : report.alternatives)
+    if (alt.axis == root.axis) widest = std::max(widest, alt.granularity);
   EXPECT_EQ(widest, AccelParams{}.max_root_granularity);
-  EXPECT_EQ(int(root.granularity), best_g);
+  EXPECT_EQ(int(root.granularity), cheapest_granularity(report, root.axis));
   uint32_t widest_below = 0;
   for (uint32_t id = 1; id < capped.voxel_count(); ++id)
     if (capped.voxel(id).status.load() == Grid1D::kSplit)
@@ -674,13 +679,8 @@ TEST(Grid1DStates, CostReportReproducesTheCut) {
     for (int a = 0; a < 3; ++a) EXPECT_EQ(report.figures.extent[a], hi[a] - lo[a]);
     // The alternation rule cut along depth % 3 at the cheapest g: the minimum over the
     // listed alternatives on that axis.
-    double best = INFINITY;
-    int best_g = 0;
-    for (const auto& alt : report.alternatives)
-      if (alt.axis == voxel.axis && alt.cost.total < best)
-        best = alt.cost.total, best_g = alt.granularity;
     EXPECT_EQ(int(voxel.axis), int(report.depth % 3));
-    EXPECT_EQ(best_g, voxel.granularity);
+    EXPECT_EQ(cheapest_granularity(report, voxel.axis), int(voxel.granularity));
     ++checked;
   }
   EXPECT_GT(checked, 10u);
