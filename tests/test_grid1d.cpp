@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <limits>
+#include <random>
 #include <set>
 #include <span>
 
@@ -485,6 +486,55 @@ TEST(Grid1DWalk, TrianglesSpanningACutAreTestedAtItsNode) {
     EXPECT_EQ(first.hit, expected[i].id) << "ray " << i;
   }
   EXPECT_GT(ground_hits, 100u);
+}
+
+// Beads on a string: small clusters far apart along x, so that the root's cells are mostly
+// empty, in runs on both sides of cell 63 (where a node's bits of occupied cells end: bit 63
+// stands for every cell from 63 on). Rays along the string both ways, across it, through
+// the box's corners and from far away (those test no content box) find brute force's answers
+// one at a time, in packets, any-hit, and eagerly built on two threads: a cell the walk
+// passes over by its bits holds no triangle.
+TEST(Grid1DWalk, RunsOfEmptyCellsArePassedOverWithoutLosingAHit) {
+  Scene scene;
+  for (const float x : {0.0f, 30.2f, 62.6f, 63.6f, 71.4f, 99.6f})
+    scene = test::merge(scene, test::make_soup(uint32_t(10 * x), 40, glm::vec3(x, 0.0f, 0.0f),
+                                               glm::vec3(x + 0.3f, 1.0f, 1.0f), 0.05f));
+  std::vector<Ray> rays;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (int i = 0; i < 4000; ++i) {
+    Ray ray;
+    const bool forward = i % 2 == 0;
+    ray.origin = {forward ? -5.0f : 105.0f, unit(rng), unit(rng)};
+    ray.dir = {forward ? 1.0f : -1.0f, 0.002f * (unit(rng) - 0.5f), 0.002f * (unit(rng) - 0.5f)};
+    rays.push_back(ray);
+  }
+  const Box box = scene.bounds();
+  for (const std::vector<Ray>& more :
+       {test::camera_rays(box, 40, 40), test::random_chords(box, 3, 3000),
+        test::edge_and_vertex_rays(scene, 5, 3000)})
+    rays.insert(rays.end(), more.begin(), more.end());
+  const std::vector<Hit> expected = brute_answers_hitting(scene, rays, rays.size() / 8);
+
+  AccelParams params;
+  params.max_granularity = params.max_root_granularity = 128;
+  params.intcost = 4.0;  // tests dear against steps: the root takes fine cells
+  Grid1D grid(params), eager(params);
+  expect_lazy_and_eager_match(scene, rays, expected, grid, eager);
+  EXPECT_EQ(test::count_any_hit_mismatches(rays, test::trace_all(grid, rays, 2, true), expected),
+            0u);
+  const Grid1D::Voxel& root = eager.voxel(0);
+  ASSERT_EQ(root.status.load(), Grid1D::kSplit);
+  ASSERT_EQ(root.axis, 0);
+  ASSERT_GT(root.granularity, 70);
+  std::vector<uint32_t> occupied;
+  for (uint32_t i = 0; i < root.granularity; ++i)
+    if (eager.voxel(root.first_child + i).tri_count > 0) occupied.push_back(i);
+  ASSERT_GE(occupied.size(), 6u);
+  EXPECT_LE(occupied.size(), 12u);
+  // Past cell 63, an empty run and then a cell with triangles: bit 63 stands for both.
+  EXPECT_TRUE(std::ranges::any_of(occupied, [](uint32_t i) { return i > 65; }));
+  EXPECT_TRUE(std::ranges::any_of(occupied, [](uint32_t i) { return i < 63 && i > 1; }));
 }
 
 // A packet whose rays all go one way walks together: a 64x64 view straight down onto the

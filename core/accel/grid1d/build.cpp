@@ -625,6 +625,7 @@ uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
   record.sole_cell = sole_cell(cut);
   record.axis = uint8_t(axis);
   record.spanning = spanning;
+  record.occupied = occupied_cells(cut);
   node_voxels_[node] = id;
 
   Voxel& voxel = voxels_[id];
@@ -665,6 +666,15 @@ uint16_t Grid1D::sole_cell(const Cut& cut) {
     sole = uint16_t(i);
   }
   return sole;
+}
+
+// Node::occupied of a cut: bit i for a cell i < 63 that holds triangles, bit 63 for any
+// such cell from 63 on.
+uint64_t Grid1D::occupied_cells(const Cut& cut) {
+  uint64_t occupied = 0;
+  for (int i = 0; i < cut.granularity; ++i)
+    if (cut.tri_offsets[i + 1] != cut.tri_offsets[i]) occupied |= uint64_t{1} << std::min(i, 63);
+  return occupied;
 }
 
 // The cells' records: place, triangle counts, area estimate (§6.5), their references (empty

@@ -201,6 +201,7 @@ class Grid1D final : public Accelerator {
                        std::span<const Crossing> crossing, Cut& cut) const;
   uint32_t commit_cut(uint32_t voxel, const Cut& cut) const;
   static uint16_t sole_cell(const Cut& cut);
+  static uint64_t occupied_cells(const Cut& cut);
   uint32_t walk_above(uint32_t node, int axis) const;
   void link_children(uint32_t voxel, const Cut& cut, uint32_t first_child, uint32_t node) const;
   double estimated_rays(uint32_t voxel, size_t crossing_count) const;

@@ -169,6 +169,7 @@ void Grid1D::visit_node(uint32_t id, uint64_t rays, PacketWalk& walk) const {
   const uint32_t groups = (g + 3) / 4;
   for (uint32_t k = 0; k < groups; ++k) {
     const uint32_t first = 4 * (ascending ? k : groups - 1 - k);
+    if (!node.group_occupied(first)) continue;  // four empty cells: not even the bounds test
     const float* group = box_group(boxes, first);
     const uint32_t cells = g - first < 4 ? (1u << (g - first)) - 1 : 15u;  // none past g
     for (uint32_t left = box_lanes.may_cross4(group, 4, 0) & cells; left != 0;) {

@@ -1,6 +1,7 @@
 // The 1D grid's records, shared by its build (build.cpp) and its walk (walk.cpp); nothing
 // outside the grid includes this file.
 #pragma once
+#include <bit>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -52,8 +53,30 @@ struct alignas(64) Grid1D::Node {
   // every cell's box as large as the cell) and a hit on them stops the walk early. Never on
   // a chain voxel (sole_cell): the walk passes those without going down into them.
   uint32_t spanning;
+  // Which cells hold triangles: bit i for cell i below 63, bit 63 for those from 63 on
+  // (set when any of them does). A walk passes a run of empty cells with one bit scan
+  // instead of a content box test per group of four, and a packet a group of four empty
+  // cells without its bounds test; no answer can change, an empty cell holds nothing to hit.
+  uint64_t occupied;
   static constexpr uint16_t kManyCells = UINT16_MAX;
   static constexpr uint32_t kNoSpanning = UINT32_MAX;
+
+  // The first cell from `cell` on that holds triangles, or `none`.
+  int64_t occupied_from(int64_t cell, int64_t none) const {
+    if (cell >= 63) return cell;
+    const uint64_t ahead = occupied >> cell;
+    return ahead != 0 ? cell + std::countr_zero(ahead) : none;
+  }
+  // The last cell up to `cell` that holds triangles, or -1.
+  int64_t occupied_to(int64_t cell) const {
+    if (cell >= 63) return cell;
+    const uint64_t behind = occupied << (63 - cell);  // cell's bit on top, those past it gone
+    return behind != 0 ? cell - std::countl_zero(behind) : -1;
+  }
+  // Whether a cell of the group of four from `first` (a multiple of 4) holds triangles.
+  bool group_occupied(uint32_t first) const {
+    return (first < 64 ? occupied >> first & 15u : occupied >> 63) != 0;
+  }
 };
 
 // A cell's child reference: its kind in the top two bits, so that the walk knows what it

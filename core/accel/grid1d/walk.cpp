@@ -323,12 +323,22 @@ inline void Grid1D::activate(int a, uint32_t node, uint32_t state, RayWalk& walk
     return values.exit_distance(node.first_cell + cell - d, d);
   };
   // Groups of four cells (box_group), from the one holding `from`, whose cells before
-  // `from` are masked off; the last group's cells past g have empty boxes.
+  // `from` are masked off; the last group's cells past g have empty boxes. Groups of empty
+  // cells are passed over without a test (Node::occupied): a bit scan finds the group of the
+  // next cell that holds triangles, and the walk stops where the tests would have stopped,
+  // at a group the ray enters beyond the limit (the tests would have found nothing before
+  // it: an empty cell's box is empty).
   const int64_t from_group = from & ~int64_t{3};
   int64_t cell = -1;
   if (d > 0) {
     uint32_t ahead = ~0u << (from & 3);
     for (int64_t group = from_group; group < g; group += 4, ahead = ~0u) {
+      const int64_t next = node.occupied_from(std::max(group, from), g);
+      if (next >= g) break;
+      if (next >= group + 4) {
+        group = next & ~int64_t{3}, ahead = ~0u;
+        if (entry(group) > limit) break;
+      }
       const uint32_t met =
           walk.boxes->crossed_group(boxes + 6 * group, walk.t_lo, walk.t_hi) & ahead;
       if (met != 0) {
@@ -340,6 +350,12 @@ inline void Grid1D::activate(int a, uint32_t node, uint32_t state, RayWalk& walk
   } else if (d < 0) {
     uint32_t ahead = (2u << (from & 3)) - 1u;
     for (int64_t group = from_group; group >= 0; group -= 4, ahead = 15u) {
+      const int64_t next = node.occupied_to(std::min(group + 3, from));
+      if (next < 0) break;
+      if (next < group) {
+        group = next & ~int64_t{3}, ahead = 15u;
+        if (entry(group + 3) > limit) break;
+      }
       const uint32_t met =
           walk.boxes->crossed_group(boxes + 6 * group, walk.t_lo, walk.t_hi) & ahead;
       if (met != 0) {
