@@ -33,7 +33,7 @@ struct Hit {
 static_assert(sizeof(Hit) == 16);
 
 // +1, -1, or 0 for a zero direction component (either sign of zero): the way a walk steps.
-inline int step_of(float d) { return d > 0.0f ? 1 : d < 0.0f ? -1 : 0; }
+inline int step_of(float d) { return int(d > 0.0f) - int(d < 0.0f); }  // two compares, no branch
 
 // Rays with a NaN or infinite origin, a NaN, infinite or zero direction, or tmin > tmax
 // (or a NaN bound) are answered as misses by every structure.
