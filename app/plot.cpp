@@ -277,6 +277,8 @@ bool labels_fit(const BarChart& chart, float bar_width) {
   return true;
 }
 
+constexpr float kMinBarHeight = 3.0f;  // pixels
+
 void draw_bar(ImDrawList& list, const Panel& panel, float left, float width, const Bar& bar,
               double base, ImU32 colour, bool label) {
   const float centre = left + width / 2;
@@ -284,7 +286,12 @@ void draw_bar(ImDrawList& list, const Panel& panel, float left, float width, con
     draw_text(list, ImVec2(centre, panel.y_at(base) - 16), kMuted, "n/a", Align::centre);
     return;
   }
-  const float y0 = panel.y_at(base), y1 = panel.y_at(*bar.value);
+  const float y0 = panel.y_at(base);
+  // A bar at its base (a structure as fast as zero-overhead) would have no height: it keeps
+  // a sliver on its side of the base, so that it reads as measured, not as missing.
+  const float sliver = *bar.value < base ? kMinBarHeight : -kMinBarHeight;
+  const float y1 =
+      std::fabs(panel.y_at(*bar.value) - y0) < kMinBarHeight ? y0 + sliver : panel.y_at(*bar.value);
   list.AddRectFilled(ImVec2(std::round(left), std::round(std::min(y0, y1))),
                      ImVec2(std::round(left + width), std::round(std::max(y0, y1))), colour);
   if (label || bar.capped)

@@ -389,6 +389,30 @@ TEST(BenchPlots, PacketBarsFollowTheirStructureInALighterColour) {
   EXPECT_LT(single.column, packets.column);
 }
 
+// A figure at the zero-overhead floor (1, or a hair below) still draws a bar: a few pixels
+// of its colour at the floor, below the legend, where a structure that did not run has none.
+TEST(BenchPlots, BarsAtTheFloorStillShow) {
+  const json records = json::array({
+      record("s", "octree", {{"relative_to_zero", 4.0}}),
+      record("s", "grid1d", {{"relative_to_zero", 1.0}}),
+      record("s", "embree", {{"relative_to_zero", 0.999}}),
+  });
+  const std::string dir = plot_dir("plots-floor");
+  ASSERT_EQ(gs::app::write_bench_plots(records, dir),
+            std::vector<std::string>{"relative_to_zero.png"});
+  const Png png = gs::test::load_png(dir + "/relative_to_zero.png");
+  const BarRun octree = tallest_run(png, gs::app::structure_colour("octree"));
+  ASSERT_GT(octree.height, 40);
+  // Below the legend's swatches: rows from the octree bar's top down.
+  const int below_legend = png.height / 4;
+  for (const char* accel : {"grid1d", "embree"}) {
+    const int pixels = pixels_of(png, gs::app::structure_colour(accel), below_legend);
+    EXPECT_GT(pixels, 0) << accel;
+    EXPECT_LT(pixels, octree.height * 10) << accel;
+  }
+  EXPECT_EQ(pixels_of(png, gs::app::structure_colour("bvh"), below_legend), 0);
+}
+
 TEST(BenchPlots, SpeedupConvergenceAndSweepPlotsAreWritten) {
   json records = json::array({
       record("s", "grid1d", {{"trace_seconds", 1.0}}),
