@@ -290,8 +290,8 @@ void draw_bar(ImDrawList& list, const Panel& panel, float left, float width, con
   // A bar at its base (a structure as fast as zero-overhead) would have no height: it keeps
   // a sliver on its side of the base, so that it reads as measured, not as missing.
   const float sliver = *bar.value < base ? kMinBarHeight : -kMinBarHeight;
-  const float y1 =
-      std::fabs(panel.y_at(*bar.value) - y0) < kMinBarHeight ? y0 + sliver : panel.y_at(*bar.value);
+  const float y_value = panel.y_at(*bar.value);
+  const float y1 = std::fabs(y_value - y0) < kMinBarHeight ? y0 + sliver : y_value;
   list.AddRectFilled(ImVec2(std::round(left), std::round(std::min(y0, y1))),
                      ImVec2(std::round(left + width), std::round(std::max(y0, y1))), colour);
   if (label || bar.capped)

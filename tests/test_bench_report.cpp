@@ -403,7 +403,7 @@ TEST(BenchPlots, BarsAtTheFloorStillShow) {
   const Png png = gs::test::load_png(dir + "/relative_to_zero.png");
   const BarRun octree = tallest_run(png, gs::app::structure_colour("octree"));
   ASSERT_GT(octree.height, 40);
-  // Below the legend's swatches: rows from the octree bar's top down.
+  // Rows below the legend's swatches (the top quarter holds the title and the legend).
   const int below_legend = png.height / 4;
   for (const char* accel : {"grid1d", "embree"}) {
     const int pixels = pixels_of(png, gs::app::structure_colour(accel), below_legend);

@@ -490,8 +490,8 @@ TEST(Grid1DWalk, TrianglesSpanningACutAreTestedAtItsNode) {
 
 // Beads on a string: small clusters far apart along x, so that the root's cells are mostly
 // empty, in runs on both sides of cell 63 (where a node's bits of occupied cells end: bit 63
-// stands for every cell from 63 on). Rays along the string both ways, across it, through
-// the box's corners and from far away (those test no content box) find brute force's answers
+// stands for every cell from 63 on). Rays along the string both ways, camera rays and
+// chords across it, and rays from far away (those test no content box) find brute force's answers
 // one at a time, in packets, any-hit, and eagerly built on two threads: a cell the walk
 // passes over by its bits holds no triangle.
 TEST(Grid1DWalk, RunsOfEmptyCellsArePassedOverWithoutLosingAHit) {
