@@ -308,9 +308,22 @@ struct Measurement {
   Image image;
 };
 
-// Builds, renders once (the lazy build), renders `repetitions` more times and takes the median.
+// The zero-overhead replay of one workload's reference at one thread count, kept built while
+// the structures are measured: each warm render of a structure is followed by one of the
+// floor, and the structure's time relative to zero is the median of the pairs' ratios. A
+// shared machine's speed drifts by 10-30% over minutes; a floor measured once, before the
+// structures, would carry that drift into every ratio taken later.
+struct Floor {
+  Config config;
+  std::unique_ptr<Accelerator> zero;
+  double seconds;  // the floor's own warm median (for a figure over the time cap)
+};
+
+// Builds, renders once (the lazy build), renders `repetitions` more times and takes the median;
+// with a floor, each warm render is paired with one of the floor (Floor).
 Measurement measure(const RunInfo& run, const Config& config, const std::string& setting,
-                    const std::string& workload, const Reference* reference) {
+                    const std::string& workload, const Reference* reference,
+                    const Floor* floor = nullptr) {
   Measurement result;
   json& record = result.record;
   record = base_record(run, config, setting, workload, reference);
@@ -325,6 +338,7 @@ Measurement measure(const RunInfo& run, const Config& config, const std::string&
                                                         config.settings, 0.05 * config.time_cap);
   if (estimate > config.time_cap) {
     measure_over_cap(record, config, *accel, estimate);
+    if (floor) record["relative_to_zero"] = record["trace_seconds"].get<double>() / floor->seconds;
     return result;
   }
   RenderOutcome first =
@@ -332,7 +346,7 @@ Measurement measure(const RunInfo& run, const Config& config, const std::string&
   record["first_pass_seconds"] = first.seconds;
   record["lazy_build_seconds"] = first.counters.lazy_build_seconds;
   result.image = std::move(first.image);
-  std::vector<double> warm;
+  std::vector<double> warm, floor_warm, ratios;
   double warm_cpu = 0.0;
   RenderOutcome last;
   const double load_before = load_average();
@@ -341,10 +355,23 @@ Measurement measure(const RunInfo& run, const Config& config, const std::string&
     last = render_image(scene, *accel, config.camera, config.settings);
     warm.push_back(last.seconds);
     warm_cpu += last.cpu_seconds;
+    if (!floor) continue;
+    const RenderOutcome zero =
+        render_image(scene, *floor->zero, floor->config.camera, floor->config.settings);
+    floor_warm.push_back(zero.seconds);
+    warm_cpu += zero.cpu_seconds;
+    ratios.push_back(last.seconds / zero.seconds);
   }
-  fill_load(record, load_before, before, std::accumulate(warm.begin(), warm.end(), 0.0), warm_cpu);
+  const auto sum = [](const std::vector<double>& v) {
+    return std::accumulate(v.begin(), v.end(), 0.0);
+  };
+  fill_load(record, load_before, before, sum(warm) + sum(floor_warm), warm_cpu);
   record["warm_seconds"] = warm;
   fill_times(record, median(warm), last.rays);
+  if (floor) {
+    record["zero_warm_seconds"] = floor_warm;
+    record["relative_to_zero"] = median(ratios);
+  }
   fill_structure_figures(record, *accel, last);
   if (reference && !reference->answers.empty()) {
     record["disagreeing_rays"] =
@@ -585,8 +612,10 @@ class BenchRun {
       Reference reference = make_reference(run_, config(bench, "", protocol_.side, 1, bounces));
       step_done(bench.label, reference.accel,
                 stamped(bench.label + " " + reference.accel + " reference " + workload));
-      for (const int threads : thread_counts())
-        run_workload(bench, reference, workload, bounces, threads);
+      for (const int threads : thread_counts()) {
+        Floor floor = run_workload(bench, reference, workload, bounces, threads);
+        if (bounces == 0 && threads == 1) primary_floor_ = std::move(floor);
+      }
       if (bounces == 0) {
         if (!options_.image_dir.empty())
           write_png(options_.image_dir + "/scene-" + file_label(bench.label) + ".png",
@@ -600,28 +629,34 @@ class BenchRun {
     if (converges(bench.label, bench.role.empty())) run_convergence(bench);
   }
 
-  // Every structure and the zero-overhead replay of the reference, at the protocol's size.
-  void run_workload(const BenchScene& bench, const Reference& reference, const char* workload,
-                    int bounces, int threads) {
+  // The zero-overhead replay of the reference, measured on its own, then kept built as the
+  // floor the structures' renders alternate with.
+  Floor measure_floor(const BenchScene& bench, const Reference& reference, const char* workload,
+                      int bounces, int threads) {
     Config zero = config(bench, "zero", protocol_.side, threads, bounces);
-    Measurement floor = measure(run_, zero, "default", workload, &reference);
-    const double zero_seconds = floor.record["trace_seconds"].get<double>();
-    floor.record["relative_to_zero"] = 1.0;
-    if (bounces == 0 && threads == 1) zero_seconds_ = zero_seconds;
-    add(std::move(floor.record));
+    Measurement own = measure(run_, zero, "default", workload, &reference);
+    own.record["relative_to_zero"] = 1.0;
+    Floor floor{zero, make_structure(zero, &reference), own.record["trace_seconds"].get<double>()};
+    add(std::move(own.record));
+    floor.zero->build(*bench.scene);
+    render_image(*bench.scene, *floor.zero, zero.camera, zero.settings);  // warm, as measured
+    return floor;
+  }
+
+  // Every structure against the floor, at the protocol's size; returns the floor.
+  Floor run_workload(const BenchScene& bench, const Reference& reference, const char* workload,
+                     int bounces, int threads) {
+    Floor floor = measure_floor(bench, reference, workload, bounces, threads);
     for (const std::string& accel : accels_) {
       Config single = config(bench, accel, protocol_.side, threads, bounces);
-      Measurement m = measure(run_, single, "default", workload, &reference);
-      m.record["relative_to_zero"] = m.record["trace_seconds"].get<double>() / zero_seconds;
-      add(std::move(m.record));
+      add(measure(run_, single, "default", workload, &reference, &floor).record);
       if (!find_structure(accel)->traces_packets) continue;
       // The same rays by packets (8x8 pixel blocks, then their shadow rays).
       Config packets = single;
       packets.settings.packets = true;
-      Measurement p = measure(run_, packets, "packets", workload, &reference);
-      p.record["relative_to_zero"] = p.record["trace_seconds"].get<double>() / zero_seconds;
-      add(std::move(p.record));
+      add(measure(run_, packets, "packets", workload, &reference, &floor).record);
     }
+    return floor;
   }
 
   // One structure at given parameters under the paper's protocol (1 thread, primary and shadow
@@ -630,9 +665,8 @@ class BenchRun {
                 const std::string& setting) {
     Config full = config(bench, accel, protocol_.side, 1, 0);
     full.params = params;
-    Measurement m = measure(run_, full, setting, "primary_shadow", &primary_reference_);
-    m.record["relative_to_zero"] = m.record["trace_seconds"].get<double>() / zero_seconds_;
-    add(std::move(m.record));
+    add(measure(run_, full, setting, "primary_shadow", &primary_reference_, &*primary_floor_)
+            .record);
   }
 
   // Each structure's parameters one at a time on a smaller image (1 thread, primary and
@@ -686,7 +720,7 @@ class BenchRun {
   std::optional<Calibration> calibration_;
   int total_steps_ = 0, done_steps_ = 0;
   Reference primary_reference_;
-  double zero_seconds_ = 0.0;
+  std::optional<Floor> primary_floor_;  // primary and shadow rays, 1 thread
   json records_ = json::array();
   Clock::time_point start_ = Clock::now();
 };

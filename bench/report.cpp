@@ -331,9 +331,10 @@ std::string speedup_suffix(const json& records, int threads, const std::string& 
 std::string figure12_section(const json& records) {
   std::string out =
       "## Time relative to the zero-overhead method (Figure 12)\n\n"
-      "Rows are scenes, columns structures, as in the paper's Figure 12: the warm render time "
-      "(tracing and shading, the structure already built; median of the repetitions) divided "
-      "by the zero-overhead method's on the same rays (§7), so 1.00 is the floor. "
+      "Rows are scenes, columns structures, as in the paper's Figure 12: each warm render "
+      "(tracing and shading, the structure already built) divided by a render of the "
+      "zero-overhead method on the same rays (§7) taken right after it, median of the "
+      "repetitions' ratios (the machine's speed drifts over minutes), so 1.00 is the floor. "
       "— not run, n/a not measured, † over the time cap (one pass over a subset of the rows, "
       "its time scaled up: an estimate, not a warm median), ‡ taken while other processes kept "
       "more than a quarter of a core busy (`others_busy_cores`), "

@@ -209,18 +209,50 @@ TEST_F(BenchRunTest, ExactStructuresAgreeWithTheReferenceAndZeroIsTheFloor) {
         EXPECT_LE(r["tests_per_ray"].get<double>(), 1.0);
       }
       EXPECT_EQ(r["warm_seconds"].size(), size_t(r["repetitions"].get<int>()));
-      // The warm renders' wall time is the sum of the repetitions; their CPU time, taken over
-      // the same windows, is spent by at most the run's threads (plus the clocks'
-      // granularity).
+      // The warm renders' wall time is the sum of the repetitions and of the floor's renders
+      // paired with them; their CPU time, taken over the same windows, is spent by at most
+      // the run's threads (plus the clocks' granularity).
       const double wall = r["wall_seconds"], cpu = r["cpu_seconds"];
       double sum = 0.0;
       for (const json& seconds : r["warm_seconds"]) sum += seconds.get<double>();
+      if (r.contains("zero_warm_seconds"))
+        for (const json& seconds : r["zero_warm_seconds"]) sum += seconds.get<double>();
       EXPECT_DOUBLE_EQ(wall, sum);
       EXPECT_LE(cpu, wall * r["threads"].get<double>() + 0.02) << r["accel"];
       EXPECT_GE(r["others_busy_cores"].get<double>(), 0.0);
       EXPECT_EQ(r["under_load"], r["others_busy_cores"].get<double>() > 0.25);
       EXPECT_GE(r["load_before"].get<double>(), 0.0);
     }
+}
+
+// Each warm render of a structure is followed by one of the zero-overhead floor; the time
+// relative to zero is the median of the pairs' ratios, not the ratio of two medians taken
+// minutes apart.
+TEST_F(BenchRunTest, RelativeToZeroIsTheMedianRatioOfRendersPairedWithTheFloor) {
+  size_t paired = 0;
+  for (const char* workload : {"primary_shadow", "diffuse"})
+    for (const json& r : select(workload)) {
+      if (r["accel"] == "zero") {
+        EXPECT_FALSE(r.contains("zero_warm_seconds"));
+        continue;
+      }
+      const auto& warm = r["warm_seconds"];
+      const auto& floor = r.at("zero_warm_seconds");
+      ASSERT_EQ(floor.size(), warm.size()) << r["accel"] << " " << r["setting"];
+      std::vector<double> ratios;
+      for (size_t i = 0; i < warm.size(); ++i) {
+        ASSERT_GT(floor[i].get<double>(), 0.0);
+        ratios.push_back(warm[i].get<double>() / floor[i].get<double>());
+      }
+      std::sort(ratios.begin(), ratios.end());
+      const size_t n = ratios.size();
+      ASSERT_EQ(n % 2, 1u);  // the quick protocol's 3 repetitions
+      EXPECT_DOUBLE_EQ(r["relative_to_zero"].get<double>(), ratios[n / 2])
+          << workload << " " << r["accel"] << " " << r["setting"];
+      ++paired;
+    }
+  // bvh and uniform by default, 1 and 2 threads, two workloads, and each one's best.
+  EXPECT_EQ(paired, 2u * 2u * 2u + 2u);
 }
 
 TEST_F(BenchRunTest, SweepsCoverEveryValueAndTheBestIsMeasuredInFull) {
