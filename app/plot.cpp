@@ -407,10 +407,8 @@ bool speedup_plot(const json& records, const std::string& path) {
     const json* one = find_record(records, {scene, accel, "primary_shadow", setting});
     const json* two = find_record(records, {scene, accel, "primary_shadow", setting, 2});
     if (!one || !two) return std::optional<Bar>();
-    const auto t1 = record_number(*one, "trace_seconds"), t2 = record_number(*two, "trace_seconds");
-    return std::optional(
-        Bar{t1 && t2 && *t2 > 0 ? std::optional(*t1 / *t2) : std::nullopt,
-            record_flag(*one, "over_time_cap") || record_flag(*two, "over_time_cap")});
+    return std::optional(Bar{record_speedup(one, *two), record_flag(*one, "over_time_cap") ||
+                                                            record_flag(*two, "over_time_cap")});
   };
   if (!fill_bars(records, bar_of, chart)) return false;
   chart.y = linear_axis(0, std::max(value_range(chart).second, 2.2));

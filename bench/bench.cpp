@@ -111,14 +111,16 @@ CpuUse cpu_use() {
 // cores busy on average while it was measured.
 constexpr double kLoadedCores = 0.25;
 
-// Load figures of the warm renders, from `before` to now: `wall` seconds of them, in which
-// this process used `cpu` seconds of CPU time.
-void fill_load(json& record, double load_before, const CpuUse& before, double wall, double cpu) {
+// Load figures of the warm renders, from `before` to now: `window` seconds of renders (the
+// structure's and those paired with them), of which the structure's own took `wall` seconds
+// and `cpu` seconds of this process's CPU time.
+void fill_load(json& record, double load_before, const CpuUse& before, double window, double wall,
+               double cpu) {
   const CpuUse after = cpu_use();
   const double own = after.own_seconds - before.own_seconds;
   const double others =
-      wall > 0.0
-          ? std::max(0.0, after.machine_busy_seconds - before.machine_busy_seconds - own) / wall
+      window > 0.0
+          ? std::max(0.0, after.machine_busy_seconds - before.machine_busy_seconds - own) / window
           : 0.0;
   record["load_before"] = load_before;
   record["others_busy_cores"] = others;
@@ -320,7 +322,10 @@ struct Floor {
 };
 
 // Builds, renders once (the lazy build), renders `repetitions` more times and takes the median;
-// with a floor, each warm render is paired with one of the floor (Floor).
+// with a floor, each warm render is paired with one of the floor (Floor). On more than one
+// thread each warm render is also paired with one of the same structure on one thread: the
+// speed-up is the median of those pairs' ratios, not a ratio of two figures taken minutes
+// apart (the machine's drift between them read as speed-ups of 1.6x and 2.6x on two cores).
 Measurement measure(const RunInfo& run, const Config& config, const std::string& setting,
                     const std::string& workload, const Reference* reference,
                     const Floor* floor = nullptr) {
@@ -346,7 +351,10 @@ Measurement measure(const RunInfo& run, const Config& config, const std::string&
   record["first_pass_seconds"] = first.seconds;
   record["lazy_build_seconds"] = first.counters.lazy_build_seconds;
   result.image = std::move(first.image);
-  std::vector<double> warm, floor_warm, ratios;
+  RenderSettings one_thread = config.settings;
+  one_thread.threads = 1;
+  const bool pairs_one_thread = config.settings.threads > 1;
+  std::vector<double> warm, floor_warm, ratios, one_thread_warm, speedups;
   double warm_cpu = 0.0;
   RenderOutcome last;
   const double load_before = load_average();
@@ -355,22 +363,29 @@ Measurement measure(const RunInfo& run, const Config& config, const std::string&
     last = render_image(scene, *accel, config.camera, config.settings);
     warm.push_back(last.seconds);
     warm_cpu += last.cpu_seconds;
+    if (pairs_one_thread) {
+      one_thread_warm.push_back(render_image(scene, *accel, config.camera, one_thread).seconds);
+      speedups.push_back(one_thread_warm.back() / last.seconds);
+    }
     if (!floor) continue;
-    const RenderOutcome zero =
-        render_image(scene, *floor->zero, floor->config.camera, floor->config.settings);
-    floor_warm.push_back(zero.seconds);
-    warm_cpu += zero.cpu_seconds;
-    ratios.push_back(last.seconds / zero.seconds);
+    floor_warm.push_back(
+        render_image(scene, *floor->zero, floor->config.camera, floor->config.settings).seconds);
+    ratios.push_back(last.seconds / floor_warm.back());
   }
   const auto sum = [](const std::vector<double>& v) {
     return std::accumulate(v.begin(), v.end(), 0.0);
   };
-  fill_load(record, load_before, before, sum(warm) + sum(floor_warm), warm_cpu);
+  fill_load(record, load_before, before, sum(warm) + sum(floor_warm) + sum(one_thread_warm),
+            sum(warm), warm_cpu);
   record["warm_seconds"] = warm;
   fill_times(record, median(warm), last.rays);
   if (floor) {
     record["zero_warm_seconds"] = floor_warm;
     record["relative_to_zero"] = median(ratios);
+  }
+  if (pairs_one_thread) {
+    record["one_thread_warm_seconds"] = one_thread_warm;
+    record["speedup"] = median(speedups);
   }
   fill_structure_figures(record, *accel, last);
   if (reference && !reference->answers.empty()) {

@@ -42,12 +42,25 @@ std::optional<double> trace_time(const json* record) {
   return record ? record_number(*record, "trace_seconds") : std::nullopt;
 }
 
-// The faster of two records by warm trace time; one without a time loses.
+// Two records' times to compare (of one scene, workload and thread count): their times
+// relative to zero-overhead where both have one, else their warm trace seconds. The bench
+// divides each warm render by a render of the zero-overhead replay taken right after it, so
+// the first cancels most of the machine's drift between two figures taken minutes apart.
+std::optional<std::pair<double, double>> compared_times(const json* a, const json* b) {
+  for (const char* key : {"relative_to_zero", "trace_seconds"}) {
+    const auto ta = a ? record_number(*a, key) : std::nullopt;
+    const auto tb = b ? record_number(*b, key) : std::nullopt;
+    if (ta && tb) return std::pair{*ta, *tb};
+  }
+  return std::nullopt;
+}
+
+// The faster of two records (compared_times); one without a time loses.
 const json* faster(const json* a, const json* b) {
-  const auto ta = trace_time(a), tb = trace_time(b);
-  if (!tb) return a ? a : b;
-  if (!ta) return b;
-  return *tb < *ta ? b : a;
+  if (!trace_time(b)) return a ? a : b;
+  if (!trace_time(a)) return b;
+  const auto times = compared_times(a, b);
+  return times && times->second < times->first ? b : a;
 }
 
 // A structure "at its best setting": the faster of its default record and its best sweep
@@ -321,11 +334,10 @@ std::string best_settings_list(const json& records) {
 
 std::string speedup_suffix(const json& records, int threads, const std::string& scene,
                            std::string_view accel) {
-  const auto one = trace_time(find_record(records, {scene, accel}));
-  const auto many =
-      trace_time(find_record(records, {scene, accel, "primary_shadow", "default", threads}));
-  if (!one || !many || *many <= 0) return "";
-  return " (" + fixed2(*one / *many) + "×)";
+  const json* many = find_record(records, {scene, accel, "primary_shadow", "default", threads});
+  const auto speedup =
+      many ? record_speedup(find_record(records, {scene, accel}), *many) : std::nullopt;
+  return speedup ? " (" + fixed2(*speedup) + "×)" : "";
 }
 
 std::string figure12_section(const json& records) {
@@ -398,19 +410,22 @@ SceneCheck paper_claim_check(const json& records, const std::string& scene) {
   const json* rival = fastest_best(records, scene, paper_rivals());
   if (!trace_time(grid)) return {scene, std::nullopt, "grid1d not measured"};
   if (!trace_time(rival)) return {scene, std::nullopt, "none of uniform, octree, grid3d measured"};
-  return {scene, *trace_time(grid) <= *trace_time(rival),
+  const auto times = compared_times(grid, rival);
+  return {scene, times && times->first <= times->second,
           named_speed(*grid) + " vs " + named_speed(*rival)};
 }
 
 std::string mrays(double rate) { return format("%.2f", rate / 1e6); }
 
-// grid1d's rays/s over Embree's, when both are measured.
+// grid1d's speed over Embree's on the same rays (Embree's time over grid1d's, compared_times),
+// when both are measured.
 std::optional<double> embree_ratio(const json* grid, const json* embree) {
   const auto rate = [](const json* record) {
     return record ? record_number(*record, "rays_per_second").value_or(0) : 0.0;
   };
-  if (rate(grid) <= 0 || rate(embree) <= 0) return std::nullopt;
-  return rate(grid) / rate(embree);
+  const auto times = compared_times(grid, embree);
+  if (rate(grid) <= 0 || rate(embree) <= 0 || !times || times->first <= 0) return std::nullopt;
+  return times->second / times->first;
 }
 
 SceneCheck embree_check(const json& records, const std::string& scene) {
@@ -421,6 +436,36 @@ SceneCheck embree_check(const json& records, const std::string& scene) {
   return {scene, *ratio >= kEmbreeTarget,
           cell(grid, "rays_per_second", mrays) + " vs " + cell(embree, "rays_per_second", mrays) +
               " Mrays/s = " + format("%.3f", *ratio)};
+}
+
+// grid1d against our scalar BVH, each at its best setting.
+SceneCheck bvh_check(const json& records, const std::string& scene) {
+  const json* grid = best_record(records, scene, "grid1d");
+  const json* bvh = best_record(records, scene, "bvh");
+  const auto times = compared_times(grid, bvh);
+  if (!trace_time(grid) || !trace_time(bvh) || !times)
+    return {scene, std::nullopt, bvh ? "grid1d not measured" : "bvh not run"};
+  return {scene, times->first < times->second, named_speed(*grid) + " vs " + named_speed(*bvh)};
+}
+
+// From a loaded scene to its first image: the structure's build (grid1d's with its sampling
+// pass) and its first render (grid1d's with its lazy build), default settings, 1 thread.
+std::optional<double> answer_seconds(const json* record) {
+  if (!record) return std::nullopt;
+  const auto build = record_number(*record, "build_seconds");
+  const auto first = record_number(*record, "first_pass_seconds");
+  if (!build || !first) return std::nullopt;
+  return *build + *first;
+}
+
+SceneCheck answer_time_check(const json& records, const std::string& scene) {
+  const json* embree = find_record(records, {scene, "embree"});
+  const auto grid_seconds = answer_seconds(find_record(records, {scene, "grid1d"}));
+  const auto embree_seconds = answer_seconds(embree);
+  if (!grid_seconds || !embree_seconds)
+    return {scene, std::nullopt, embree ? "build or first render not measured" : "embree not run"};
+  return {scene, *grid_seconds <= *embree_seconds,
+          format("%.3f", *grid_seconds) + " s vs " + format("%.3f", *embree_seconds) + " s"};
 }
 
 // " (active 0.63, fallback 2.1%)": why a packet record gained what it did.
@@ -435,10 +480,10 @@ std::string packet_figures(const json& record) {
 SceneCheck packet_gain_check(const json& records, const std::string& scene) {
   const json* single = find_record(records, {scene, "grid1d"});
   const json* packets = find_record(records, {scene, "grid1d", "primary_shadow", "packets"});
-  const auto ts = trace_time(single), tp = trace_time(packets);
-  if (!ts || !tp || *tp <= 0) return {scene, std::nullopt, "not measured with and without"};
-  return {scene, *ts / *tp >= kPacketGainTarget,
-          format("%.3f", *ts / *tp) + "×" + packet_figures(*packets)};
+  const auto times = compared_times(single, packets);
+  if (!times || times->second <= 0) return {scene, std::nullopt, "not measured with and without"};
+  const double gain = times->first / times->second;
+  return {scene, gain >= kPacketGainTarget, format("%.3f", gain) + "×" + packet_figures(*packets)};
 }
 
 SceneCheck packet_embree_check(const json& records, const std::string& scene) {
@@ -454,10 +499,11 @@ SceneCheck packet_embree_check(const json& records, const std::string& scene) {
 SceneCheck packet_bounce_check(const json& records, const std::string& scene) {
   const json* single = find_record(records, {scene, "grid1d", "diffuse"});
   const json* packets = find_record(records, {scene, "grid1d", "diffuse", "packets"});
-  const auto ts = trace_time(single), tp = trace_time(packets);
-  if (!ts || !tp || *ts <= 0) return {scene, std::nullopt, "not measured with and without"};
-  return {scene, *tp <= kPacketBounceSlowdown * *ts,
-          "packets / single time " + format("%.3f", *tp / *ts) + packet_figures(*packets)};
+  const auto times = compared_times(single, packets);
+  if (!times || times->first <= 0) return {scene, std::nullopt, "not measured with and without"};
+  return {scene, times->second <= kPacketBounceSlowdown * times->first,
+          "packets / single time " + format("%.3f", times->second / times->first) +
+              packet_figures(*packets)};
 }
 
 // " (1.97 cores busy)": thread CPU time over wall time while a record's warm renders ran.
@@ -470,20 +516,19 @@ std::string cores_used(const json& record) {
 SceneCheck speedup_check(const json& records, const std::string& scene) {
   const json* one = find_record(records, {scene, "grid1d"});
   const json* two = find_record(records, {scene, "grid1d", "primary_shadow", "default", 2});
-  const auto t1 = trace_time(one), t2 = trace_time(two);
-  if (!t1 || !t2 || *t2 <= 0) return {scene, std::nullopt, "not measured at 1 and 2 threads"};
-  const double speedup = *t1 / *t2;
+  const auto speedup = one && two ? record_speedup(one, *two) : std::nullopt;
+  if (!speedup) return {scene, std::nullopt, "not measured at 1 and 2 threads"};
   return {
-      scene, speedup >= kSpeedupTarget,
-      format("%.3f", speedup) + "×" + figure_marks(*one) + figure_marks(*two) + cores_used(*two)};
+      scene, *speedup >= kSpeedupTarget,
+      format("%.3f", *speedup) + "×" + figure_marks(*one) + figure_marks(*two) + cores_used(*two)};
 }
 
 SceneCheck calibration_check(const json& records, const std::string& scene) {
   const json* standard = find_record(records, {scene, "grid1d"});
   const json* calibrated = find_record(records, {scene, "grid1d", "primary_shadow", "calibrated"});
-  if (!trace_time(standard) || !trace_time(calibrated))
-    return {scene, std::nullopt, "not measured with both"};
-  return {scene, *trace_time(calibrated) <= *trace_time(standard),
+  const auto times = compared_times(calibrated, standard);
+  if (!times) return {scene, std::nullopt, "not measured with both"};
+  return {scene, times->first <= times->second,
           "calibrated " + speed_text(*calibrated, "%.3f") + " vs default " +
               speed_text(*standard, "%.3f")};
 }
@@ -506,11 +551,24 @@ std::string targets_section(const json& records) {
              checks_for(records, true, paper_claim_check),
              "no scene with varying local complexity was run") +
          verdict("grid1d at least " + fixed2(kEmbreeTarget) +
-                     " of Embree's single-thread rays/s on every scene (primary and shadow "
-                     "rays; grid1d vs Embree, ratio)",
+                     " of Embree's single-thread speed on every scene (primary and shadow "
+                     "rays; rays/s, then the ratio of their times relative to zero-overhead)",
                  was_run(records, "embree") ? checks_for(records, false, embree_check)
                                             : std::vector<SceneCheck>{},
                  "embree not run (not in this build or not asked for)") +
+         verdict(
+             "grid1d's time to the answer, its build, sampling pass and first render (lazy "
+             "build included), at most Embree's build and first render (1 thread, default "
+             "settings; seconds)",
+             was_run(records, "embree") ? checks_for(records, false, answer_time_check)
+                                        : std::vector<SceneCheck>{},
+             "embree not run (not in this build or not asked for)") +
+         verdict(
+             "grid1d faster than our scalar BVH on every scene, each at its best setting "
+             "(time relative to zero-overhead)",
+             was_run(records, "bvh") ? checks_for(records, false, bvh_check)
+                                     : std::vector<SceneCheck>{},
+             "bvh not run") +
          verdict("grid1d with packets at least " + fixed2(kPacketGainTarget) +
                      "× its own single rays (primary and shadow rays, 1 thread; single-ray "
                      "time / packet time, then the packets' active fraction and fallbacks)",
@@ -751,13 +809,14 @@ std::string outcome_sentence(const json& grid, const json& rival, int outcome, d
   return "grid1d ties: " + figures + " (within " + format("%.0f", kTie * 100) + "%).";
 }
 
-std::string modern_sentence(const json& records, const std::string& scene, double grid_time) {
+std::string modern_sentence(const json& records, const std::string& scene, const json& grid) {
   std::vector<std::string> parts;
   for (std::string_view accel : structure_names(StructureGroup::modern)) {
     const json* record = best_record(records, scene, accel);
-    if (!trace_time(record)) continue;
+    const auto times = compared_times(record, &grid);
+    if (!times) continue;
     parts.push_back(std::string(accel) + " " + speed_text(*record) + " (" +
-                    (*trace_time(record) < grid_time ? "faster" : "slower") + ")");
+                    (times->first < times->second ? "faster" : "slower") + ")");
   }
   return parts.empty() ? "" : " Modern references: " + join(parts, ", ") + ".";
 }
@@ -775,15 +834,16 @@ std::string discuss_scene(const json& records, const std::string& scene) {
   const json* grid = best_record(records, scene, "grid1d");
   const json* rival = fastest_best(records, scene, paper_rivals());
   if (!trace_time(grid)) return out + "grid1d not measured.\n";
-  if (!trace_time(rival)) {
+  const auto times = compared_times(grid, rival);
+  if (!trace_time(rival) || !times) {
     out += "none of uniform, octree, grid3d measured.";
   } else {
-    const double ratio = *trace_time(grid) / *trace_time(rival);
+    const double ratio = times->first / times->second;
     const int outcome = ratio < 1 - kTie ? -1 : ratio > 1 + kTie ? 1 : 0;
     out += outcome_sentence(*grid, *rival, outcome, ratio) + " " +
            why_sentence(*grid, *rival, outcome) + cost_sentence(*grid, *rival, info);
   }
-  out += modern_sentence(records, scene, *trace_time(grid));
+  out += modern_sentence(records, scene, *grid);
   if (!info.varying)
     out +=
         " No varying local complexity here: the paper found the methods alike on such a "
@@ -878,6 +938,14 @@ std::optional<double> record_number(const json& record, const char* key) {
   if (it == record.end() || !it->is_number()) return std::nullopt;
   const double value = it->get<double>();
   return std::isfinite(value) ? std::optional(value) : std::nullopt;
+}
+
+std::optional<double> record_speedup(const json* one_thread, const json& many_threads) {
+  if (const auto paired = record_number(many_threads, "speedup")) return paired;
+  const auto one = one_thread ? record_number(*one_thread, "trace_seconds") : std::nullopt;
+  const auto many = record_number(many_threads, "trace_seconds");
+  if (!one || !many || *many <= 0) return std::nullopt;
+  return *one / *many;
 }
 
 bool record_flag(const json& record, const char* key) {

@@ -209,20 +209,27 @@ TEST_F(BenchRunTest, ExactStructuresAgreeWithTheReferenceAndZeroIsTheFloor) {
         EXPECT_LE(r["tests_per_ray"].get<double>(), 1.0);
       }
       EXPECT_EQ(r["warm_seconds"].size(), size_t(r["repetitions"].get<int>()));
-      // The warm renders' wall time is the sum of the repetitions and of the floor's renders
-      // paired with them; their CPU time, taken over the same windows, is spent by at most
-      // the run's threads (plus the clocks' granularity).
+      // The warm renders' wall time is the sum of the repetitions (not of the renders paired
+      // with them); their CPU time, taken over the same windows, is spent by at most the
+      // run's threads (plus the clocks' granularity).
       const double wall = r["wall_seconds"], cpu = r["cpu_seconds"];
       double sum = 0.0;
       for (const json& seconds : r["warm_seconds"]) sum += seconds.get<double>();
-      if (r.contains("zero_warm_seconds"))
-        for (const json& seconds : r["zero_warm_seconds"]) sum += seconds.get<double>();
       EXPECT_DOUBLE_EQ(wall, sum);
       EXPECT_LE(cpu, wall * r["threads"].get<double>() + 0.02) << r["accel"];
       EXPECT_GE(r["others_busy_cores"].get<double>(), 0.0);
       EXPECT_EQ(r["under_load"], r["others_busy_cores"].get<double>() > 0.25);
       EXPECT_GE(r["load_before"].get<double>(), 0.0);
     }
+}
+
+// The median of ratios of paired times (the quick protocol's 3 repetitions: odd).
+double median_ratio(const json& numerators, const json& denominators) {
+  std::vector<double> ratios;
+  for (size_t i = 0; i < numerators.size(); ++i)
+    ratios.push_back(numerators[i].get<double>() / denominators[i].get<double>());
+  std::sort(ratios.begin(), ratios.end());
+  return ratios.empty() ? 0.0 : ratios[ratios.size() / 2];
 }
 
 // Each warm render of a structure is followed by one of the zero-overhead floor; the time
@@ -239,20 +246,34 @@ TEST_F(BenchRunTest, RelativeToZeroIsTheMedianRatioOfRendersPairedWithTheFloor) 
       const auto& warm = r["warm_seconds"];
       const auto& floor = r.at("zero_warm_seconds");
       ASSERT_EQ(floor.size(), warm.size()) << r["accel"] << " " << r["setting"];
-      std::vector<double> ratios;
-      for (size_t i = 0; i < warm.size(); ++i) {
-        ASSERT_GT(floor[i].get<double>(), 0.0);
-        ratios.push_back(warm[i].get<double>() / floor[i].get<double>());
-      }
-      std::sort(ratios.begin(), ratios.end());
-      const size_t n = ratios.size();
-      ASSERT_EQ(n % 2, 1u);  // the quick protocol's 3 repetitions
-      EXPECT_DOUBLE_EQ(r["relative_to_zero"].get<double>(), ratios[n / 2])
+      ASSERT_EQ(warm.size() % 2, 1u);
+      EXPECT_DOUBLE_EQ(r["relative_to_zero"].get<double>(), median_ratio(warm, floor))
           << workload << " " << r["accel"] << " " << r["setting"];
       ++paired;
     }
   // bvh and uniform by default, 1 and 2 threads, two workloads, and each one's best.
   EXPECT_EQ(paired, 2u * 2u * 2u + 2u);
+}
+
+// On 2 threads each warm render is followed by one of the same structure on 1 thread; the
+// speed-up is the median of those pairs' ratios.
+TEST_F(BenchRunTest, SpeedUpIsTheMedianRatioOfOneThreadRendersPairedWithEachWarmRender) {
+  size_t paired = 0;
+  for (const char* workload : {"primary_shadow", "diffuse"})
+    for (const json& r : select(workload)) {
+      if (r["threads"] == 1) {
+        EXPECT_FALSE(r.contains("speedup")) << r["accel"];
+        continue;
+      }
+      const auto& one = r.at("one_thread_warm_seconds");
+      ASSERT_EQ(one.size(), r["warm_seconds"].size()) << r["accel"];
+      ASSERT_EQ(one.size() % 2, 1u);
+      EXPECT_DOUBLE_EQ(r["speedup"].get<double>(), median_ratio(one, r["warm_seconds"]))
+          << workload << " " << r["accel"];
+      ++paired;
+    }
+  // zero, bvh and uniform on 2 threads, two workloads.
+  EXPECT_EQ(paired, 3u * 2u);
 }
 
 TEST_F(BenchRunTest, SweepsCoverEveryValueAndTheBestIsMeasuredInFull) {
