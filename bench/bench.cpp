@@ -308,6 +308,7 @@ struct Measurement {
   json record;
   std::vector<Hit> answers;  // empty when over the time cap
   Image image;
+  std::unique_ptr<Accelerator> accel;  // as measured: built, its lazy parts too
 };
 
 // The zero-overhead replay of one workload's reference at one thread count, kept built while
@@ -333,7 +334,8 @@ Measurement measure(const RunInfo& run, const Config& config, const std::string&
   json& record = result.record;
   record = base_record(run, config, setting, workload, reference);
   const Scene& scene = *config.scene->scene;
-  std::unique_ptr<Accelerator> accel = make_structure(config, reference);
+  std::unique_ptr<Accelerator>& accel = result.accel;
+  accel = make_structure(config, reference);
   record["build_seconds"] = seconds_of([&] { accel->build(scene); }) + seconds_of([&] {
                               sample_image(scene, *accel, config.camera, config.settings);
                             });
@@ -651,10 +653,8 @@ class BenchRun {
     Config zero = config(bench, "zero", protocol_.side, threads, bounces);
     Measurement own = measure(run_, zero, "default", workload, &reference);
     own.record["relative_to_zero"] = 1.0;
-    Floor floor{zero, make_structure(zero, &reference), own.record["trace_seconds"].get<double>()};
+    Floor floor{zero, std::move(own.accel), own.record["trace_seconds"].get<double>()};
     add(std::move(own.record));
-    floor.zero->build(*bench.scene);
-    render_image(*bench.scene, *floor.zero, zero.camera, zero.settings);  // warm, as measured
     return floor;
   }
 
