@@ -111,20 +111,23 @@ CpuUse cpu_use() {
 // cores busy on average while it was measured.
 constexpr double kLoadedCores = 0.25;
 
-// Load figures of the warm renders, from `before` to now: `window` seconds of renders (the
-// structure's and those paired with them), of which the structure's own took `wall` seconds
-// and `cpu` seconds of this process's CPU time.
-void fill_load(json& record, double load_before, const CpuUse& before, double window, double wall,
-               double cpu) {
-  const CpuUse after = cpu_use();
+// Cores other processes kept busy, on average, from `before` to `after`: the machine's busy
+// time less this process's, over `window` seconds of renders.
+double others_busy_cores(const CpuUse& before, const CpuUse& after, double window) {
   const double own = after.own_seconds - before.own_seconds;
-  const double others =
-      window > 0.0
-          ? std::max(0.0, after.machine_busy_seconds - before.machine_busy_seconds - own) / window
-          : 0.0;
+  return window > 0.0
+             ? std::max(0.0, after.machine_busy_seconds - before.machine_busy_seconds - own) /
+                   window
+             : 0.0;
+}
+
+// Load figures of a structure's warm renders: the load average before them, the cores other
+// processes kept busy while they and the renders paired with them ran, and the structure's
+// own `wall` seconds and `cpu` seconds of this process's CPU time.
+void fill_load(json& record, double load_before, double others_busy, double wall, double cpu) {
   record["load_before"] = load_before;
-  record["others_busy_cores"] = others;
-  record["under_load"] = others > kLoadedCores;
+  record["others_busy_cores"] = others_busy;
+  record["under_load"] = others_busy > kLoadedCores;
   record["cpu_seconds"] = cpu;
   record["wall_seconds"] = wall;
 }
@@ -146,6 +149,8 @@ struct RunInfo {
   uint64_t seed;
   int repetitions;
   bool quick;
+  Clock::time_point start = Clock::now();
+  double seconds() const { return seconds_since(start); }  // since the run began
 };
 
 // The reference for one scene and workload: its answers and image at the protocol's size.
@@ -304,11 +309,20 @@ void measure_over_cap(json& record, const Config& config, const Accelerator& acc
   fill_structure_figures(record, accel, part);
 }
 
+// One structure's measurement: built and rendered once (the lazy build) on its own, then its
+// warm renders taken in rounds with the other measurements of its group (measure_in_rounds).
 struct Measurement {
+  Config config;
   json record;
   std::vector<Hit> answers;  // empty when over the time cap
   Image image;
   std::unique_ptr<Accelerator> accel;  // as measured: built, its lazy parts too
+  bool warm = false;                   // false when over the time cap: no warm renders
+  // The warm renders, when each began (seconds since the run began), and the renders paired
+  // with them.
+  std::vector<double> warm_seconds, started, floor_seconds, one_thread_seconds;
+  double warm_cpu = 0.0;
+  RenderOutcome last;
 };
 
 // The zero-overhead replay of one workload's reference at one thread count, kept built while
@@ -322,80 +336,134 @@ struct Floor {
   double seconds;  // the floor's own warm median (for a figure over the time cap)
 };
 
-// Builds, renders once (the lazy build), renders `repetitions` more times and takes the median;
-// with a floor, each warm render is paired with one of the floor (Floor). On more than one
-// thread each warm render is also paired with one of the same structure on one thread: the
-// speed-up is the median of those pairs' ratios, not a ratio of two figures taken minutes
-// apart (the machine's drift between them read as speed-ups of 1.6x and 2.6x on two cores).
-Measurement measure(const RunInfo& run, const Config& config, const std::string& setting,
-                    const std::string& workload, const Reference* reference,
-                    const Floor* floor = nullptr) {
-  Measurement result;
-  json& record = result.record;
-  record = base_record(run, config, setting, workload, reference);
+// What a group of measurements asks for: a configuration and its setting's name.
+struct Planned {
+  Config config;
+  std::string setting;
+};
+
+// Builds the structure, runs the sampling pass and renders once (the first pass, lazy build
+// included); a structure estimated over the time cap is measured on a strided pass instead
+// and takes no warm renders.
+Measurement start_measurement(const RunInfo& run, const Planned& plan, const std::string& workload,
+                              const Reference* reference, const Floor* floor) {
+  Measurement m;
+  m.config = plan.config;
+  const Config& config = m.config;
+  json& record = m.record;
+  record = base_record(run, config, plan.setting, workload, reference);
   const Scene& scene = *config.scene->scene;
-  std::unique_ptr<Accelerator>& accel = result.accel;
-  accel = make_structure(config, reference);
-  record["build_seconds"] = seconds_of([&] { accel->build(scene); }) + seconds_of([&] {
-                              sample_image(scene, *accel, config.camera, config.settings);
+  m.accel = make_structure(config, reference);
+  record["build_seconds"] = seconds_of([&] { m.accel->build(scene); }) + seconds_of([&] {
+                              sample_image(scene, *m.accel, config.camera, config.settings);
                             });
   const double estimate = config.accel == "zero"
                               ? 0.0
-                              : estimate_render_seconds(*config.scene, *accel, config.camera,
+                              : estimate_render_seconds(*config.scene, *m.accel, config.camera,
                                                         config.settings, 0.05 * config.time_cap);
   if (estimate > config.time_cap) {
-    measure_over_cap(record, config, *accel, estimate);
+    measure_over_cap(record, config, *m.accel, estimate);
     if (floor) record["relative_to_zero"] = record["trace_seconds"].get<double>() / floor->seconds;
-    return result;
+    return m;
   }
-  RenderOutcome first =
-      render_image(scene, *accel, config.camera, config.settings, &result.answers);
+  RenderOutcome first = render_image(scene, *m.accel, config.camera, config.settings, &m.answers);
   record["first_pass_seconds"] = first.seconds;
   record["lazy_build_seconds"] = first.counters.lazy_build_seconds;
-  result.image = std::move(first.image);
-  RenderSettings one_thread = config.settings;
-  one_thread.threads = 1;
-  const bool pairs_one_thread = config.settings.threads > 1;
-  std::vector<double> warm, floor_warm, ratios, one_thread_warm, speedups;
-  double warm_cpu = 0.0;
-  RenderOutcome last;
+  m.image = std::move(first.image);
+  m.warm = true;
+  return m;
+}
+
+// One warm render, followed by one of the floor (with a floor) and, on more than one thread,
+// by one of the same structure on one thread: the speed-up is the median of those pairs'
+// ratios, not a ratio of two figures taken minutes apart (the machine's drift between them
+// read as speed-ups of 1.6x and 2.6x on two cores).
+void warm_render(Measurement& m, const Floor* floor, double run_seconds) {
+  const Config& config = m.config;
+  const Scene& scene = *config.scene->scene;
+  m.started.push_back(run_seconds);
+  m.last = render_image(scene, *m.accel, config.camera, config.settings);
+  m.warm_seconds.push_back(m.last.seconds);
+  m.warm_cpu += m.last.cpu_seconds;
+  if (config.settings.threads > 1) {
+    RenderSettings one_thread = config.settings;
+    one_thread.threads = 1;
+    m.one_thread_seconds.push_back(
+        render_image(scene, *m.accel, config.camera, one_thread).seconds);
+  }
+  if (floor)
+    m.floor_seconds.push_back(
+        render_image(scene, *floor->zero, floor->config.camera, floor->config.settings).seconds);
+}
+
+double sum_of(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0); }
+
+// The median of numerator[i] / denominator[i].
+double median_ratio(const std::vector<double>& numerator, const std::vector<double>& denominator) {
+  std::vector<double> ratios;
+  for (size_t i = 0; i < numerator.size(); ++i) ratios.push_back(numerator[i] / denominator[i]);
+  return median(ratios);
+}
+
+// The record's warm figures from the renders taken (others_busy: cores other processes kept
+// busy during the rounds).
+void finish_measurement(Measurement& m, const Reference* reference, double load_before,
+                        double others_busy) {
+  json& record = m.record;
+  if (m.warm) {
+    fill_load(record, load_before, others_busy, sum_of(m.warm_seconds), m.warm_cpu);
+    record["warm_seconds"] = m.warm_seconds;
+    record["warm_started_seconds"] = m.started;
+    fill_times(record, median(m.warm_seconds), m.last.rays);
+    if (!m.floor_seconds.empty()) {
+      record["zero_warm_seconds"] = m.floor_seconds;
+      record["relative_to_zero"] = median_ratio(m.warm_seconds, m.floor_seconds);
+    }
+    if (!m.one_thread_seconds.empty()) {
+      record["one_thread_warm_seconds"] = m.one_thread_seconds;
+      record["speedup"] = median_ratio(m.one_thread_seconds, m.warm_seconds);
+    }
+    fill_structure_figures(record, *m.accel, m.last);
+  }
+  if (reference && !reference->answers.empty() && !m.answers.empty()) {
+    record["disagreeing_rays"] =
+        count_disagreements(m.config.settings, m.answers, reference->answers);
+    record["image_rmse"] = image_rmse(m.image.rgba, reference->image.rgba);
+  }
+}
+
+// Measures a group of structures in rounds: each is built and rendered once, then every
+// round takes one warm render of each (with the renders paired with it, warm_render), the
+// first structure of a round moving on by one each round. Structures compared with each other
+// (one scene, workload and thread count) are then timed in the same minutes, so that the
+// machine's drift, which reaches 30% within a minute here, falls on all of them alike.
+std::vector<Measurement> measure_in_rounds(const RunInfo& run, const std::vector<Planned>& plans,
+                                           const std::string& workload, const Reference* reference,
+                                           const Floor* floor) {
+  std::vector<Measurement> group;
+  for (const Planned& plan : plans)
+    group.push_back(start_measurement(run, plan, workload, reference, floor));
   const double load_before = load_average();
   const CpuUse before = cpu_use();
-  for (int r = 0; r < config.repetitions; ++r) {
-    last = render_image(scene, *accel, config.camera, config.settings);
-    warm.push_back(last.seconds);
-    warm_cpu += last.cpu_seconds;
-    if (pairs_one_thread) {
-      one_thread_warm.push_back(render_image(scene, *accel, config.camera, one_thread).seconds);
-      speedups.push_back(one_thread_warm.back() / last.seconds);
+  const size_t n = group.size();
+  const int rounds = plans.empty() ? 0 : plans.front().config.repetitions;
+  for (int round = 0; round < rounds; ++round)
+    for (size_t k = 0; k < n; ++k) {
+      Measurement& m = group[(size_t(round) + k) % n];
+      if (m.warm) warm_render(m, floor, run.seconds());
     }
-    if (!floor) continue;
-    floor_warm.push_back(
-        render_image(scene, *floor->zero, floor->config.camera, floor->config.settings).seconds);
-    ratios.push_back(last.seconds / floor_warm.back());
-  }
-  const auto sum = [](const std::vector<double>& v) {
-    return std::accumulate(v.begin(), v.end(), 0.0);
-  };
-  fill_load(record, load_before, before, sum(warm) + sum(floor_warm) + sum(one_thread_warm),
-            sum(warm), warm_cpu);
-  record["warm_seconds"] = warm;
-  fill_times(record, median(warm), last.rays);
-  if (floor) {
-    record["zero_warm_seconds"] = floor_warm;
-    record["relative_to_zero"] = median(ratios);
-  }
-  if (pairs_one_thread) {
-    record["one_thread_warm_seconds"] = one_thread_warm;
-    record["speedup"] = median(speedups);
-  }
-  fill_structure_figures(record, *accel, last);
-  if (reference && !reference->answers.empty()) {
-    record["disagreeing_rays"] =
-        count_disagreements(config.settings, result.answers, reference->answers);
-    record["image_rmse"] = image_rmse(result.image.rgba, reference->image.rgba);
-  }
-  return result;
+  double window = 0.0;
+  for (const Measurement& m : group)
+    window += sum_of(m.warm_seconds) + sum_of(m.floor_seconds) + sum_of(m.one_thread_seconds);
+  const double others_busy = others_busy_cores(before, cpu_use(), window);
+  for (Measurement& m : group) finish_measurement(m, reference, load_before, others_busy);
+  return group;
+}
+
+// One structure measured on its own (the reference, the floor, a sweep point).
+Measurement measure(const RunInfo& run, const Config& config, const std::string& setting,
+                    const std::string& workload, const Reference* reference) {
+  return std::move(measure_in_rounds(run, {{config, setting}}, workload, reference, nullptr)[0]);
 }
 
 // brute when it is affordable (a few billion ray-triangle tests), else bvh, whose answers the
@@ -579,7 +647,7 @@ class BenchRun {
     return std::find(accels_.begin(), accels_.end(), "grid1d") != accels_.end();
   }
 
-  double elapsed() const { return seconds_since(start_); }
+  double elapsed() const { return run_.seconds(); }
 
   // The paper's section 6.2 constants measured on this machine (bench/calibrate.h).
   void calibrate_constants() {
@@ -640,9 +708,7 @@ class BenchRun {
         primary_reference_ = std::move(reference);
       }
     }
-    if (calibration_)
-      run_full(bench, "grid1d", with_calibration(AccelParams{}, *calibration_), "calibrated");
-    run_sweeps(bench);
+    run_bests(run_sweeps(bench));
     if (converges(bench.label, bench.role.empty())) run_convergence(bench);
   }
 
@@ -658,35 +724,36 @@ class BenchRun {
     return floor;
   }
 
-  // Every structure against the floor, at the protocol's size; returns the floor.
+  // Every structure against the floor, in rounds, at the protocol's size (with packets too
+  // where a structure walks them, and grid1d with the calibrated constants on primary and
+  // shadow rays on one thread, so that they are timed beside the defaults); returns the floor.
   Floor run_workload(const BenchScene& bench, const Reference& reference, const char* workload,
                      int bounces, int threads) {
     Floor floor = measure_floor(bench, reference, workload, bounces, threads);
+    std::vector<Planned> plans;
     for (const std::string& accel : accels_) {
       Config single = config(bench, accel, protocol_.side, threads, bounces);
-      add(measure(run_, single, "default", workload, &reference, &floor).record);
+      plans.push_back({single, "default"});
       if (!find_structure(accel)->traces_packets) continue;
       // The same rays by packets (8x8 pixel blocks, then their shadow rays).
       Config packets = single;
       packets.settings.packets = true;
-      add(measure(run_, packets, "packets", workload, &reference, &floor).record);
+      plans.push_back({packets, "packets"});
     }
+    if (calibration_ && bounces == 0 && threads == 1) {
+      Config calibrated = config(bench, "grid1d", protocol_.side, 1, 0);
+      calibrated.params = with_calibration(AccelParams{}, *calibration_);
+      plans.push_back({calibrated, "calibrated"});
+    }
+    for (Measurement& m : measure_in_rounds(run_, plans, workload, &reference, &floor))
+      add(std::move(m.record));
     return floor;
   }
 
-  // One structure at given parameters under the paper's protocol (1 thread, primary and shadow
-  // rays, full size), against the scene's reference and zero-overhead time.
-  void run_full(const BenchScene& bench, const std::string& accel, const AccelParams& params,
-                const std::string& setting) {
-    Config full = config(bench, accel, protocol_.side, 1, 0);
-    full.params = params;
-    add(measure(run_, full, setting, "primary_shadow", &primary_reference_, &*primary_floor_)
-            .record);
-  }
-
   // Each structure's parameters one at a time on a smaller image (1 thread, primary and
-  // shadow rays); the fastest point is measured again in full as the structure's "best".
-  void run_sweeps(const BenchScene& bench) {
+  // shadow rays); returns each structure's fastest point, to be measured again in full.
+  std::vector<Planned> run_sweeps(const BenchScene& bench) {
+    std::vector<Planned> bests;
     for (const std::string& accel : accels_) {
       std::optional<std::pair<double, AccelParams>> best;
       for (const SweepAxis& axis : find_structure(accel)->sweep)
@@ -703,13 +770,25 @@ class BenchRun {
             best = {seconds, point.params};
           add(std::move(m.record));
         }
-      if (best)
-        run_full(bench, accel, best->second, "best");
-      else
+      if (!best) {
         step_done(bench.label, accel,
                   stamped(bench.label + " " + accel +
                           " best: none, every sweep point over the time cap"));
+        continue;
+      }
+      Config full = config(bench, accel, protocol_.side, 1, 0);
+      full.params = best->second;
+      bests.push_back({full, "best"});
     }
+    return bests;
+  }
+
+  // The structures at their best settings under the paper's protocol (1 thread, primary and
+  // shadow rays, full size), in rounds, against the scene's reference and zero-overhead time.
+  void run_bests(const std::vector<Planned>& bests) {
+    for (Measurement& m :
+         measure_in_rounds(run_, bests, "primary_shadow", &primary_reference_, &*primary_floor_))
+      add(std::move(m.record));
   }
 
   void run_convergence(const BenchScene& bench) {
@@ -737,7 +816,6 @@ class BenchRun {
   Reference primary_reference_;
   std::optional<Floor> primary_floor_;  // primary and shadow rays, 1 thread
   json records_ = json::array();
-  Clock::time_point start_ = Clock::now();
 };
 
 }  // namespace

@@ -276,6 +276,36 @@ TEST_F(BenchRunTest, SpeedUpIsTheMedianRatioOfOneThreadRendersPairedWithEachWarm
   EXPECT_EQ(paired, 3u * 2u);
 }
 
+// The structures compared with each other (one scene, workload, thread count and kind of
+// setting) take their warm renders in rounds: each one's k-th render begins before any
+// other's (k+1)-th, so that the machine's drift falls on all of them alike.
+TEST_F(BenchRunTest, StructuresComparedWithEachOtherAreTimedInRounds) {
+  size_t groups = 0;
+  for (const char* workload : {"primary_shadow", "diffuse"})
+    for (const int threads : {1, 2})
+      for (const char* setting : {"default", "best"}) {
+        std::vector<json> group;
+        for (const json& r : select(workload))
+          if (r["threads"] == threads && r["setting"] == setting && r["accel"] != "zero")
+            group.push_back(r);
+        if (group.empty()) continue;
+        ASSERT_EQ(group.size(), 2u) << workload << " " << threads << " " << setting;
+        ++groups;
+        for (const json& a : group)
+          for (const json& b : group) {
+            const auto& early = a.at("warm_started_seconds");
+            const auto& late = b.at("warm_started_seconds");
+            ASSERT_EQ(early.size(), size_t(a["repetitions"].get<int>()));
+            for (size_t k = 0; k + 1 < early.size(); ++k)
+              EXPECT_LT(early[k].get<double>(), late[k + 1].get<double>())
+                  << workload << " " << threads << " " << setting << " " << a["accel"] << " "
+                  << b["accel"] << " " << k;
+          }
+      }
+  // Defaults on 1 and 2 threads for both workloads, and the bests.
+  EXPECT_EQ(groups, 5u);
+}
+
 TEST_F(BenchRunTest, SweepsCoverEveryValueAndTheBestIsMeasuredInFull) {
   EXPECT_EQ(select("sweep", "uniform").size(), 7u);  // density 1/8 .. 8
   EXPECT_EQ(select("sweep", "bvh").size(), 5u);      // leaf size 1 .. 16
