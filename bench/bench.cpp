@@ -751,25 +751,34 @@ class BenchRun {
   }
 
   // Each structure's parameters one at a time on a smaller image (1 thread, primary and
-  // shadow rays); returns each structure's fastest point, to be measured again in full.
+  // shadow rays), a structure's points timed in rounds; returns each structure's fastest
+  // point, to be measured again in full.
   std::vector<Planned> run_sweeps(const BenchScene& bench) {
     std::vector<Planned> bests;
     for (const std::string& accel : accels_) {
-      std::optional<std::pair<double, AccelParams>> best;
+      std::vector<Planned> points;
+      std::vector<std::pair<std::string_view, double>> swept;  // per point: parameter, value
       for (const SweepAxis& axis : find_structure(accel)->sweep)
         for (const double value : axis.values) {
           Config point = config(bench, accel, protocol_.sweep_side, 1, 0);
           point.repetitions = protocol_.sweep_repetitions;
           point.time_cap = protocol_.time_cap / 4;
           set_param(point.params, axis.param, value);
-          Measurement m = measure(run_, point, "sweep", "sweep", nullptr);
-          m.record["sweep_param"] = param_spec(axis.param).key;
-          m.record["sweep_value"] = value;
-          const double seconds = m.record["trace_seconds"].get<double>();
-          if (!m.record["over_time_cap"].get<bool>() && (!best || seconds < best->first))
-            best = {seconds, point.params};
-          add(std::move(m.record));
+          points.push_back({point, "sweep"});
+          swept.emplace_back(param_spec(axis.param).key, value);
         }
+      std::optional<std::pair<double, AccelParams>> best;
+      std::vector<Measurement> measured =
+          measure_in_rounds(run_, points, "sweep", nullptr, nullptr);
+      for (size_t i = 0; i < measured.size(); ++i) {
+        json& record = measured[i].record;
+        record["sweep_param"] = swept[i].first;
+        record["sweep_value"] = swept[i].second;
+        const double seconds = record["trace_seconds"].get<double>();
+        if (!record["over_time_cap"].get<bool>() && (!best || seconds < best->first))
+          best = {seconds, measured[i].config.params};
+        add(std::move(record));
+      }
       if (!best) {
         step_done(bench.label, accel,
                   stamped(bench.label + " " + accel +

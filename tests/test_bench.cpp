@@ -276,9 +276,23 @@ TEST_F(BenchRunTest, SpeedUpIsTheMedianRatioOfOneThreadRendersPairedWithEachWarm
   EXPECT_EQ(paired, 3u * 2u);
 }
 
+// Records timed in rounds: each one's k-th warm render begins before any other's (k+1)-th.
+void expect_rounds(const std::vector<json>& group, const std::string& label) {
+  for (const json& a : group)
+    for (const json& b : group) {
+      const auto& early = a.at("warm_started_seconds");
+      const auto& late = b.at("warm_started_seconds");
+      ASSERT_EQ(early.size(), size_t(a["repetitions"].get<int>())) << label;
+      for (size_t k = 0; k + 1 < early.size(); ++k)
+        EXPECT_LT(early[k].get<double>(), late[k + 1].get<double>())
+            << label << " " << a["accel"] << " " << a["params"] << " " << b["accel"] << " "
+            << b["params"] << " " << k;
+    }
+}
+
 // The structures compared with each other (one scene, workload, thread count and kind of
-// setting) take their warm renders in rounds: each one's k-th render begins before any
-// other's (k+1)-th, so that the machine's drift falls on all of them alike.
+// setting) take their warm renders in rounds, and so do a structure's sweep points, so that
+// the machine's drift falls on all of them alike.
 TEST_F(BenchRunTest, StructuresComparedWithEachOtherAreTimedInRounds) {
   size_t groups = 0;
   for (const char* workload : {"primary_shadow", "diffuse"})
@@ -289,21 +303,15 @@ TEST_F(BenchRunTest, StructuresComparedWithEachOtherAreTimedInRounds) {
           if (r["threads"] == threads && r["setting"] == setting && r["accel"] != "zero")
             group.push_back(r);
         if (group.empty()) continue;
-        ASSERT_EQ(group.size(), 2u) << workload << " " << threads << " " << setting;
+        const std::string label =
+            std::string(workload) + " " + std::to_string(threads) + " " + setting;
+        ASSERT_EQ(group.size(), 2u) << label;
+        expect_rounds(group, label);
         ++groups;
-        for (const json& a : group)
-          for (const json& b : group) {
-            const auto& early = a.at("warm_started_seconds");
-            const auto& late = b.at("warm_started_seconds");
-            ASSERT_EQ(early.size(), size_t(a["repetitions"].get<int>()));
-            for (size_t k = 0; k + 1 < early.size(); ++k)
-              EXPECT_LT(early[k].get<double>(), late[k + 1].get<double>())
-                  << workload << " " << threads << " " << setting << " " << a["accel"] << " "
-                  << b["accel"] << " " << k;
-          }
       }
   // Defaults on 1 and 2 threads for both workloads, and the bests.
   EXPECT_EQ(groups, 5u);
+  for (const char* accel : {"bvh", "uniform"}) expect_rounds(select("sweep", accel), accel);
 }
 
 TEST_F(BenchRunTest, SweepsCoverEveryValueAndTheBestIsMeasuredInFull) {
