@@ -446,11 +446,12 @@ std::vector<Measurement> measure_in_rounds(const RunInfo& run, const std::vector
   const double load_before = load_average();
   const CpuUse before = cpu_use();
   const size_t n = group.size();
-  const int rounds = plans.empty() ? 0 : plans.front().config.repetitions;
+  int rounds = 0;
+  for (const Measurement& m : group) rounds = std::max(rounds, m.config.repetitions);
   for (int round = 0; round < rounds; ++round)
     for (size_t k = 0; k < n; ++k) {
       Measurement& m = group[(size_t(round) + k) % n];
-      if (m.warm) warm_render(m, floor, run.seconds());
+      if (m.warm && round < m.config.repetitions) warm_render(m, floor, run.seconds());
     }
   double window = 0.0;
   for (const Measurement& m : group)
