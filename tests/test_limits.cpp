@@ -7,8 +7,11 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <limits>
+#include <sstream>
 
 #include "core/accel/bvh.h"
 #include "core/accel/grid1d/grid1d.h"
@@ -16,10 +19,59 @@
 #include "core/accel/octree.h"
 #include "core/accel/uniform_grid.h"
 #include "core/base/error.h"
+#include "core/base/stable_array.h"
 #include "tests/cases.h"
 
 namespace gs {
 namespace {
+
+// ---------------------------------------------------------------------------------------
+// Lazily grown storage
+
+TEST(StableArray, ElementsStayWhereTheyAreAndAFullReservationSaysSo) {
+  StableArray<uint64_t> array(1000 * sizeof(uint64_t));
+  ASSERT_EQ(array.append(10), 0u);
+  uint64_t* first = &array[0];
+  for (uint64_t i = 0; i < 10; ++i) array[i] = i * i;
+  EXPECT_EQ(array.append(990), 10u);
+  EXPECT_EQ(&array[0], first);
+  EXPECT_EQ(array[9], 81u);
+  EXPECT_EQ(array[999], 0u);  // value-initialised
+  EXPECT_EQ(array.append(1), SIZE_MAX);
+  EXPECT_EQ(array.size(), 1000u);
+}
+
+// The kernel's flags of the mapping holding `address` (/proc/self/smaps' VmFlags line).
+std::string mapping_flags(const void* address) {
+  std::ifstream smaps("/proc/self/smaps");
+  std::string line;
+  bool inside = false;
+  const auto at = reinterpret_cast<uintptr_t>(address);
+  while (std::getline(smaps, line)) {
+    uintptr_t lo = 0, hi = 0;
+    char dash = 0;
+    std::istringstream range(line);
+    if (range >> std::hex >> lo >> dash >> hi && dash == '-') inside = lo <= at && at < hi;
+    if (inside && line.rfind("VmFlags:", 0) == 0) return line;
+  }
+  return "";
+}
+
+// A small array takes ordinary pages (a huge page would be zeroed whole at its first
+// write); past the prefix the system is asked for huge pages.
+TEST(StableArray, HugePagesAreAskedForOnlyPastTheSmallPrefix) {
+  if (!std::filesystem::exists("/sys/kernel/mm/transparent_hugepage/enabled"))
+    GTEST_SKIP() << "this kernel has no transparent huge pages";
+  StableArray<uint8_t> array(size_t{64} << 20);
+  ASSERT_EQ(array.append(StableArray<uint8_t>::kSmallPrefix + 1), 0u);
+  const std::string small = mapping_flags(&array[0]);
+  const std::string small_end = mapping_flags(&array[StableArray<uint8_t>::kSmallPrefix - 1]);
+  const std::string huge = mapping_flags(&array[StableArray<uint8_t>::kSmallPrefix]);
+  EXPECT_NE(small.find(" nh"), std::string::npos) << small;
+  EXPECT_NE(small_end.find(" nh"), std::string::npos) << small_end;
+  EXPECT_NE(huge.find(" hg"), std::string::npos) << huge;
+  EXPECT_EQ(huge.find(" nh"), std::string::npos) << huge;
+}
 
 // ---------------------------------------------------------------------------------------
 // Scene files and counts

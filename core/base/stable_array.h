@@ -6,6 +6,7 @@
 #pragma once
 #include <sys/mman.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
@@ -17,6 +18,9 @@ namespace gs {
 template <class T>
 class StableArray {
  public:
+  // The bytes at the start that take ordinary pages (reserve).
+  static constexpr size_t kSmallPrefix = size_t{256} << 10;
+
   explicit StableArray(size_t max_bytes) { reserve(max_bytes); }
   ~StableArray() { release(); }
   // Drops every element and reserves `max_bytes` afresh. Only while no other thread reads
@@ -57,18 +61,26 @@ class StableArray {
     capacity_ = max_bytes / sizeof(T);
     if (capacity_ == 0) return;
     // Huge pages where the system gives them on request (transparent huge pages in
-    // "madvise" mode, Debian's default): a structure of tens of megabytes is committed in
-    // tens of page faults instead of thousands, which in a virtual machine cost more than
-    // the build itself. The reservation starts on a huge-page boundary, so the first
-    // elements, which every build writes, get one too.
+    // "madvise" mode, Debian's default) past the first 256 KiB: a structure of tens of
+    // megabytes is committed in tens of page faults instead of thousands, which in a
+    // virtual machine cost more than the build itself. The first 256 KiB take ordinary
+    // pages: a huge page is zeroed whole at its first write, and a grid1d build (with its
+    // sampling pass's scout) starts some two dozen arrays, so a small scene zeroed ~100 MB
+    // for a structure of 2 MB (the bench's pyramid builds: medians 40 ms, 4 ms with it).
+    // The huge pages start on a huge-page boundary.
     mapped_bytes_ = capacity_ * sizeof(T) + kHugePage;
     void* p = ::mmap(nullptr, mapped_bytes_, PROT_READ | PROT_WRITE,
                      MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
     if (p == MAP_FAILED) throw std::bad_alloc();
     mapping_ = p;
-    const uintptr_t aligned = (reinterpret_cast<uintptr_t>(p) + kHugePage - 1) & ~(kHugePage - 1);
-    data_ = reinterpret_cast<T*>(aligned);
-    ::madvise(data_, capacity_ * sizeof(T), MADV_HUGEPAGE);  // only advice: ignore a refusal
+    const uintptr_t huge =
+        (reinterpret_cast<uintptr_t>(p) + kSmallPrefix + kHugePage - 1) & ~(kHugePage - 1);
+    data_ = reinterpret_cast<T*>(huge - kSmallPrefix);
+    // Only advice: a refusal is ignored.
+    const size_t bytes = capacity_ * sizeof(T);
+    ::madvise(data_, std::min(bytes, kSmallPrefix), MADV_NOHUGEPAGE);
+    if (bytes > kSmallPrefix)
+      ::madvise(reinterpret_cast<void*>(huge), bytes - kSmallPrefix, MADV_HUGEPAGE);
   }
   void release() {
     if (mapping_) ::munmap(mapping_, mapped_bytes_);
