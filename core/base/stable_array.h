@@ -19,7 +19,7 @@ template <class T>
 class StableArray {
  public:
   // The bytes at the start that take ordinary pages (reserve).
-  static constexpr size_t kSmallPrefix = size_t{256} << 10;
+  static constexpr size_t kSmallPrefix = size_t{64} << 10;
 
   explicit StableArray(size_t max_bytes) { reserve(max_bytes); }
   ~StableArray() { release(); }
@@ -61,13 +61,13 @@ class StableArray {
     capacity_ = max_bytes / sizeof(T);
     if (capacity_ == 0) return;
     // Huge pages where the system gives them on request (transparent huge pages in
-    // "madvise" mode, Debian's default) past the first 256 KiB: a structure of tens of
-    // megabytes is committed in tens of page faults instead of thousands, which in a
-    // virtual machine cost more than the build itself. The first 256 KiB take ordinary
-    // pages: a huge page is zeroed whole at its first write, and a grid1d build (with its
-    // sampling pass's scout) starts some two dozen arrays, so a small scene zeroed ~100 MB
-    // for a structure of 2 MB (the bench's pyramid builds: medians 40 ms, 4 ms with it).
-    // The huge pages start on a huge-page boundary.
+    // "madvise" mode, Debian's default) past the first 64 KiB, from a huge-page boundary: a
+    // structure of tens of megabytes is committed in tens of page faults instead of
+    // thousands, which in a virtual machine cost more than the build itself. The first
+    // 64 KiB take ordinary pages: a huge page is zeroed whole at its first write, and a
+    // grid1d build (with its sampling pass's scout) starts some two dozen arrays, most of a
+    // few kilobytes on a small scene (the pyramid's builds in the bench: 40 ms with huge
+    // pages from the first byte, 4 ms with the prefix; docs/design.md §1.7).
     mapped_bytes_ = capacity_ * sizeof(T) + kHugePage;
     void* p = ::mmap(nullptr, mapped_bytes_, PROT_READ | PROT_WRITE,
                      MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
