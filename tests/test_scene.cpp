@@ -23,6 +23,7 @@
 
 #include "core/base/error.h"
 #include "core/base/timing.h"
+#include "core/geometry/triangles.h"
 #include "core/scene/scene.h"
 #include "tests/test_util.h"
 
@@ -1111,6 +1112,27 @@ TEST(Bounds, OnlyVerticesUsedByTriangles) {
   EXPECT_EQ(box.hi, vec3(1, 2, 3));
   EXPECT_TRUE(Box().empty());
   EXPECT_FALSE(box.empty());
+}
+
+// Every build sorts triangles by their boxes padded as the clip box is: the box of the
+// corners (in any order), each face moved out by the padding, 1e-9 of the scene's largest
+// coordinate magnitude (8 here); the degenerate triangles are set aside.
+TEST(BuildInput, PaddedBoxesAndUsableTriangles) {
+  const Scene scene = scene_of({{0, 0, 0}, {4, -2, 1}, {-8, 3, 0.5f}, {2, 0, 0}, {1, 0, 0}},
+                               {{0, 1, 2}, {2, 0, 1}, {0, 3, 4}});
+  const BuildInput input(scene);
+  const double pad = 1e-9 * 8.0;
+  EXPECT_EQ(input.clip.padding, pad);
+  const TriangleBox expected = {-8.0 - pad, -2.0 - pad, 0.0 - pad, 4.0 + pad, 3.0 + pad, 1.0 + pad};
+  for (const uint32_t id : {0u, 1u}) {
+    EXPECT_EQ(input.box(id), expected) << id;
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_EQ(input.box_lo(id, a), expected[a]) << id << " axis " << a;
+      EXPECT_EQ(input.box_hi(id, a), expected[a + 3]) << id << " axis " << a;
+    }
+  }
+  EXPECT_EQ(input.usable, (std::vector<uint32_t>{0, 1}));  // 2: collinear corners
+  EXPECT_EQ(input.degenerate, 1u);
 }
 
 }  // namespace

@@ -170,7 +170,7 @@ void Bvh::build(const Scene& scene) {
   Builder builder{*this, std::vector<DBox>(verts.size()), {}, input_.usable, verts};
   builder.centroids.resize(verts.size());
   for (const uint32_t id : input_.usable) {
-    const double* box = input_.box(id);  // padded: a node never culls a reported hit
+    const TriangleBox box = input_.box(id);  // padded: a node never culls a reported hit
     const TriangleVerts& t = verts[id];
     const glm::dvec3 lo = glm::min(t.v0, glm::min(t.v1, t.v2));
     const glm::dvec3 hi = glm::max(t.v0, glm::max(t.v1, t.v2));

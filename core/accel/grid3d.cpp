@@ -261,7 +261,7 @@ void NestedGrid::sort_into(const double lo[3], const double hi[3],
   plan.ranges.resize(ids.size());
   plan.refs = 0;
   for (size_t i = 0; i < ids.size(); ++i) {
-    const double* box = input_.box(ids[i]);
+    const TriangleBox box = input_.box(ids[i]);
     uint64_t count = 1;
     for (int a = 0; a < 3; ++a) {
       const double inv_width = double(res[a]) / (hi[a] - lo[a]);
@@ -334,7 +334,7 @@ bool NestedGrid::commit(const Plan& plan, uint32_t depth, uint32_t& grid_id) con
     cell_box(grid, uint32_t(c), lo, hi);
     std::vector<uint32_t> ids(flat.begin() + offsets[c], flat.begin() + offsets[c + 1]);
     for (uint32_t& id : ids) {
-      const double* box = input_.box(id);
+      const TriangleBox box = input_.box(id);
       bool inside = true;
       for (int a = 0; a < 3; ++a) inside &= box[a] >= lo[a] && box[a + 3] <= hi[a];
       if (inside) id |= kOnlyHere;
@@ -375,8 +375,7 @@ StructureStats NestedGrid::stats() const {
   s.leaves = cells_.size() - subdivided_.load();
   s.traversal_states = std::nullopt;
   s.depth = deepest_.load();
-  s.memory_bytes = bytes_used_.load() + input_.triangles.size() * sizeof(TriangleVerts) +
-                   input_.boxes.size() * sizeof(double);
+  s.memory_bytes = bytes_used_.load() + input_.triangles.size() * sizeof(TriangleVerts);
   s.build_seconds = build_seconds_;
   s.voxels_over_budget = over_budget_.load();
   return s;

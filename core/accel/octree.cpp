@@ -93,7 +93,7 @@ uint32_t Octree::make_leaf(int depth, const uint32_t lo[3], const std::vector<ui
     cell_lo[a] = wall(a, lo[a]), cell_hi[a] = wall(a, uint64_t(lo[a]) + size);
   std::vector<uint32_t> ids(tris);
   for (uint32_t& id : ids) {
-    const double* box = input_.box(id);
+    const TriangleBox box = input_.box(id);
     bool inside = true;
     for (int a = 0; a < 3; ++a) inside &= box[a] >= cell_lo[a] && box[a + 3] <= cell_hi[a];
     if (inside) id |= kOnlyHere;
@@ -115,7 +115,7 @@ bool Octree::split(uint32_t /*node*/, int depth, const uint32_t lo[3],
   double mid[3];
   for (int a = 0; a < 3; ++a) mid[a] = wall(a, lo[a] + half);
   for (const uint32_t id : tris) {
-    const double* box = input_.box(id);
+    const TriangleBox box = input_.box(id);
     unsigned low = 0, high = 0;  // per axis bit: overlaps the lower / upper half
     for (int a = 0; a < 3; ++a) {
       low |= unsigned(box[a] <= mid[a]) << a;

@@ -141,7 +141,7 @@ void UniformGrid::cell_range(int axis, double lo, double hi, uint32_t& first,
 template <class Visit>
 void UniformGrid::each_cell(uint32_t id, Visit&& visit) const {
   const uint64_t nx = n_[0], nxy = uint64_t(n_[0]) * n_[1];
-  const double* box = input_.box(id);
+  const TriangleBox box = input_.box(id);
   uint32_t first[3], last[3];
   for (int a = 0; a < 3; ++a) cell_range(a, box[a], box[a + 3], first[a], last[a]);
   for (uint64_t z = first[2]; z <= last[2]; ++z)

@@ -184,7 +184,7 @@ void content_box(uint32_t count, BoxOf&& box_of, const double lo[3], const doubl
                  double padding, float out[6]) {
   double content[6] = {kInf, kInf, kInf, -kInf, -kInf, -kInf};
   for (uint32_t i = 0; i < count; ++i) {
-    const double* box = box_of(i);
+    const auto box = box_of(i);
     for (int a = 0; a < 3; ++a)
       content[a] = std::min(content[a], box[a]),
       content[a + 3] = std::max(content[a + 3], box[a + 3]);

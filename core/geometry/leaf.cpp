@@ -39,7 +39,7 @@ uint32_t LeafStore::add(const std::vector<uint32_t>& ids, const BuildInput& inpu
     const glm::vec3* corners[3] = {&t.v0, &t.v1, &t.v2};
     for (int k = 0; k < 3; ++k)
       for (int a = 0; a < 3; ++a) coords[size_t(3 * k + a) * n + i] = (*corners[k])[a];
-    const double* box = input.box(id);
+    const TriangleBox box = input.box(id);
     for (int a = 0; a < 3; ++a) {
       boxes[a * stride + i] = float_down(box[a]);
       boxes[(a + 3) * stride + i] = float_up(box[a + 3]);

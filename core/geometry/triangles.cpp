@@ -1,7 +1,5 @@
 #include "core/geometry/triangles.h"
 
-#include <glm/common.hpp>
-
 namespace gs {
 
 std::vector<TriangleVerts> gather_triangles(const Scene& scene) {
@@ -13,13 +11,8 @@ std::vector<TriangleVerts> gather_triangles(const Scene& scene) {
 
 BuildInput::BuildInput(const Scene& scene)
     : triangles(gather_triangles(scene)), bounds(scene.bounds()), clip(bounds) {
-  boxes.resize(triangles.size() * 6);
+  usable.reserve(triangles.size());
   for (uint32_t id = 0; id < triangles.size(); ++id) {
-    const TriangleVerts& t = triangles[id];
-    const glm::dvec3 lo = glm::dvec3(glm::min(t.v0, glm::min(t.v1, t.v2))) - clip.padding;
-    const glm::dvec3 hi = glm::dvec3(glm::max(t.v0, glm::max(t.v1, t.v2))) + clip.padding;
-    std::copy(&lo.x, &lo.x + 3, &boxes[size_t(id) * 6]);
-    std::copy(&hi.x, &hi.x + 3, &boxes[size_t(id) * 6 + 3]);
     if (scene.is_degenerate(id))
       ++degenerate;
     else

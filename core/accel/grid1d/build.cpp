@@ -346,7 +346,7 @@ std::vector<uint32_t> Grid1D::leaf_ids(uint32_t id, std::span<const uint32_t> tr
   voxel_box(id, lo, hi);
   std::vector<uint32_t> ids(tris.size());
   for (size_t i = 0; i < tris.size(); ++i) {
-    const double* box = input_.box(tris[i]);
+    const TriangleBox box = input_.box(tris[i]);
     bool inside = true;
     for (int a = 0; a < 3; ++a) inside &= box[a] >= lo[a] && box[a + 3] <= hi[a];
     ids[i] = inside ? tris[i] | kOnlyHere : tris[i];
@@ -408,8 +408,9 @@ double Grid1D::mean_clipped_size(uint32_t id, int axis, const double lo[3],
   if (voxel.tri_count == 0) return 0.0;
   double sum = 0.0;
   for (uint32_t i = 0; i < voxel.tri_count; ++i) {
-    const double* box = input_.box(tri_indices_[voxel.tri_begin + i]);
-    sum += std::max(0.0, std::min(box[axis + 3], hi[axis]) - std::max(box[axis], lo[axis]));
+    const uint32_t tri = tri_indices_[voxel.tri_begin + i];
+    sum += std::max(0.0, std::min(input_.box_hi(tri, axis), hi[axis]) -
+                             std::max(input_.box_lo(tri, axis), lo[axis]));
   }
   return sum / voxel.tri_count;
 }
@@ -519,9 +520,8 @@ bool Grid1D::sort_into_cells(uint32_t id, int axis, int g, const double lo[3], c
   bool separates = false;
   cut.spanning.clear();
   for (size_t i = 0; i < tris.size(); ++i) {
-    const double* box = input_.box(tris[i]);
-    const CellRange range{locate(std::max(box[axis], lo[axis])),
-                          locate(std::min(box[axis + 3], hi[axis]))};
+    const CellRange range{locate(std::max(input_.box_lo(tris[i], axis), lo[axis])),
+                          locate(std::min(input_.box_hi(tris[i], axis), hi[axis]))};
     const bool spans = range.first == 0 && range.last == g - 1;
     separates |= !spans;
     // A triangle in every cell goes to the node (Node::spanning), in no cell.
@@ -736,8 +736,7 @@ StructureStats Grid1D::stats() const {
   s.counts_descents = true;
   s.depth = deepest_.load();
   s.memory_bytes = bytes_used_ + input_.triangles.size() * sizeof(TriangleVerts) +
-                   input_.boxes.size() * sizeof(double) + sample_.size() * sizeof(SampleRay) +
-                   states_.size() * sizeof(StateInfo);
+                   sample_.size() * sizeof(SampleRay) + states_.size() * sizeof(StateInfo);
   s.build_seconds = build_seconds_;
   s.voxels_over_budget = over_budget_.load();
   return s;
