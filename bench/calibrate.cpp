@@ -28,7 +28,8 @@ using json = nlohmann::json;
 // timed from the build).
 constexpr FitTerm kConstantTerms[] = {kTestTerm, kRejectionTerm, kStepTerm, kDescentTerm, kRayTerm};
 static_assert(std::size(kConstantTerms) == std::size(kCostConstants));
-constexpr const char* kTermNames[kFitTerms] = {"ray", "test", "rejection", "step", "descent"};
+constexpr const char* kTermNames[kFitTerms] = {"ray",  "test",    "rejection",
+                                               "step", "descent", "leaf triangle"};
 
 // A coefficient whose standard error is more than this share of it is noise, not a timing.
 constexpr double kMaxRelativeError = 0.5;
@@ -40,7 +41,7 @@ constexpr double kDependentPivot = 1e-9;
 // The fit
 
 std::array<double, kFitTerms> counts_of(const WorkSample& row) {
-  return {1.0, row.tests, row.rejections, row.steps, row.descents};
+  return {1.0, row.tests, row.rejections, row.steps, row.descents, row.leaf_triangles};
 }
 
 // The weighted normal equations (X^T W X) c = X^T W y over some of the terms, equilibrated
@@ -139,6 +140,7 @@ json row_json(const WorkSample& row, const CostFit& fit) {
           {"rejections", row.rejections},
           {"steps", row.steps},
           {"descents", row.descents},
+          {"leaf_triangles", row.leaf_triangles},
           {"nanoseconds_per_ray", row.seconds * 1e9},
           {"predicted_nanoseconds_per_ray", predicted * 1e9},
           {"relative_error", predicted / row.seconds - 1.0}};
@@ -273,6 +275,13 @@ std::vector<Scenario> make_scenarios(std::mt19937_64& rng) {
     scenarios.push_back({"tests, leaf of " + std::to_string(n), cell_row(n, n, 1, 0),
                          shaping_params(1, 0), rays_along_row(n, kRaysPerScenario, rng), kTestTerm,
                          [n](const Grid1D&) { return double(n); }});
+  // One leaf of n small triangles in the cells' corners, whose boxes lie off the rays: n box
+  // tests per ray and no real test, so that the fit tells a triangle's box test from its
+  // real test.
+  for (const int n : {64, 512})
+    scenarios.push_back({"box tests, leaf of " + std::to_string(n), cell_row(n, 1, 0, 0),
+                         shaping_params(1, 0), rays_along_row(n, kRaysPerScenario, rng),
+                         kLeafTriangleTerm, [n](const Grid1D&) { return double(n); }});
   // The row cut into its cells, every other one holding a panel: a step per panel.
   for (const int cells : {16, 64, 256})
     scenarios.push_back({"steps, " + std::to_string(cells) + " cells", cell_row(cells, 1, 2, 0),
@@ -357,6 +366,7 @@ WorkSample measure(const std::string& label, const Accelerator& accel, const std
   row.rejections = double(counters.mailbox_rejections) / n;
   row.steps = double(counters.traversal_steps) / n;
   row.descents = double(counters.descents) / n;
+  row.leaf_triangles = double(counters.leaf_triangles) / n;
   return row;
 }
 
@@ -380,7 +390,8 @@ WorkSample measure_scenario(const Scenario& scenario, double share, json& design
   return row;
 }
 
-// Real scenes: Subcost's builds, and the check of the fit on rays it was not fitted on.
+// Real scenes: Subcost's builds, the share of a searched leaf's triangles that real rays
+// test for real, and the check of the fit on rays it was not fitted on.
 constexpr const char* kBuiltinScenes[] = {"pyramid", "lumpy"};
 
 // Subcost: eager builds of built-in scenes with the default parameters (no sampling pass:
@@ -408,11 +419,11 @@ std::vector<BuildSample> measure_builds(double share) {
   return builds;
 }
 
-// The fit's prediction for real scenes it was not fitted on: grid1d with its defaults
-// (sampling pass, lazy) on camera rays of the built-in scenes' default views.
-json validate(const CostFit& fit, double share) {
+// Camera rays of the built-in scenes' default views through grid1d with its defaults
+// (sampling pass, lazy): real rays' work, which the fit was not fitted on.
+std::vector<WorkSample> measure_views(double share) {
   constexpr int kSide = 128;
-  json rows = json::array();
+  std::vector<WorkSample> rows;
   for (const std::string name : kBuiltinScenes) {
     const Scene scene = make_builtin_scene(name);
     const Camera camera = frame_box(scene.bounds());
@@ -423,10 +434,17 @@ json validate(const CostFit& fit, double share) {
     const std::unique_ptr<Accelerator> grid = make_accelerator("grid1d", AccelParams{});
     grid->build(scene);
     sample_run(*grid, image_sample(rays, kSide, kSide), rays.size(), 1);
-    rows.push_back(
-        row_json(measure("builtin:" + name + ", default view", *grid, rays, share), fit));
+    rows.push_back(measure("builtin:" + name + ", default view", *grid, rays, share));
   }
   return rows;
+}
+
+// Real tests per leaf triangle over the rows (each row's rays alike), 0 without leaf
+// triangles.
+double tested_share_of(std::span<const WorkSample> rows) {
+  double tests = 0.0, leaf_triangles = 0.0;
+  for (const WorkSample& row : rows) tests += row.tests, leaf_triangles += row.leaf_triangles;
+  return leaf_triangles > 0.0 ? std::min(1.0, tests / leaf_triangles) : 0.0;
 }
 
 // Parts of the budget: traced rows (the synthetic scenes and the validation), builds.
@@ -474,13 +492,30 @@ double predicted_seconds(const CostFit& fit, const WorkSample& row) {
   return seconds;
 }
 
+// Why the unit cannot be measured (empty when it can): a leaf triangle's box test and a
+// real test must both be timings.
+std::string why_no_unit(const CostFit& fit) {
+  for (const FitTerm term : {kLeafTriangleTerm, kTestTerm})
+    if (std::string problem = why_unidentified(fit, term); !problem.empty())
+      return std::string("the ") + kTermNames[term] + "'s cost: " + problem;
+  return "";
+}
+
 Calibration calibration_from_measurements(std::span<const WorkSample> rows,
-                                          std::span<const BuildSample> builds) {
+                                          std::span<const BuildSample> builds,
+                                          double tested_share) {
   const CostFit fit = fit_costs(rows);
   Calibration calibration;
   json constants = json::object(), unidentified = json::object();
-  const std::string unit_problem = why_unidentified(fit, kTestTerm);
-  const double unit = unit_problem.empty() ? fit.seconds[kTestTerm] : 0.0;
+  // Intcost, the unit: what one triangle of a searched cell costs a real ray (§6.4 counts
+  // every triangle of the cell the ray crosses), its box test and, for the share of them
+  // whose box the ray crosses, a real test.
+  const std::string unit_problem = why_no_unit(fit);
+  const double unit = unit_problem.empty()
+                          ? fit.seconds[kLeafTriangleTerm] + tested_share * fit.seconds[kTestTerm]
+                          : 0.0;
+  const double unit_error = std::hypot(fit.standard_error[kLeafTriangleTerm],
+                                       tested_share * fit.standard_error[kTestTerm]);
 
   double build_seconds = 0.0, triangles_sorted = 0.0;
   json build_rows = json::array();
@@ -501,14 +536,15 @@ Calibration calibration_from_measurements(std::span<const WorkSample> rows,
   for (size_t k = 0; k < std::size(kCostConstants); ++k) {
     const CostConstant& constant = kCostConstants[k];
     const FitTerm term = kConstantTerms[k];
-    const bool from_build = term == kRayTerm;
-    const double seconds = from_build ? sort_seconds : fit.seconds[term];
+    const bool from_build = term == kRayTerm, is_unit = term == kTestTerm;
+    const double seconds = from_build ? sort_seconds : is_unit ? unit : fit.seconds[term];
     std::string problem =
         unit == 0.0 ? "intcost, the unit, is not measured: " + unit_problem
         : from_build
             ? (sort_seconds > 0.0 ? ""
                                   : "the builds sorted no triangle into cells in measurable time")
-            : why_unidentified(fit, term);
+        : is_unit ? ""
+                  : why_unidentified(fit, term);
     if (problem.empty())
       calibration.*constant.calibrated = seconds / unit;
     else
@@ -519,8 +555,12 @@ Calibration calibration_from_measurements(std::span<const WorkSample> rows,
         {"measured", problem.empty()},
         {"nanoseconds", seconds * 1e9},
         {"standard_error_nanoseconds",
-         from_build ? json(nullptr) : json(fit.standard_error[term] * 1e9)},
-        {"work", from_build ? "triangle sorted into cells (eager build)" : kTermNames[term]}};
+         from_build ? json(nullptr)
+                    : json((is_unit ? unit_error : fit.standard_error[term]) * 1e9)},
+        {"work", from_build ? "triangle sorted into cells (eager build)"
+                 : is_unit  ? "triangle of a searched leaf: its box test, and a test for the "
+                              "tested share"
+                            : kTermNames[term]}};
   }
   calibration.nanoseconds_per_unit = unit * 1e9;
 
@@ -529,10 +569,14 @@ Calibration calibration_from_measurements(std::span<const WorkSample> rows,
   calibration.detail = {
       {"constants", constants},
       {"per_ray_nanoseconds", fit.seconds[kRayTerm] * 1e9},
+      {"tested_share", tested_share},
+      {"test_nanoseconds", fit.seconds[kTestTerm] * 1e9},
+      {"leaf_triangle_nanoseconds", fit.seconds[kLeafTriangleTerm] * 1e9},
       {"fit",
        {{"model",
-         "seconds per ray = ray + intcost tests + repcost rejections + travcost steps + "
-         "vertcost descents, least squares weighted by 1 / time"},
+         "seconds per ray = ray + a tests + b leaf triangles + repcost rejections + travcost "
+         "steps + vertcost descents, least squares weighted by 1 / time; intcost = b + "
+         "tested_share a"},
         {"rms_relative_residual", fit.rms_relative_residual},
         {"rows", fit_rows}}},
       {"build", {{"triangles_sorted", triangles_sorted}, {"rows", build_rows}}},
@@ -554,9 +598,13 @@ Calibration calibrate(const CalibrateOptions& options) {
     rows.push_back(measure_scenario(scenario, share, designs));
   const std::vector<BuildSample> builds =
       measure_builds(options.budget_seconds * (1.0 - kTraceShare));
-  Calibration calibration = calibration_from_measurements(rows, builds);
+  const std::vector<WorkSample> views = measure_views(share);
+  Calibration calibration = calibration_from_measurements(rows, builds, tested_share_of(views));
   calibration.detail["designs"] = designs;
-  calibration.detail["validation"] = validate(fit_costs(rows), share);
+  const CostFit fit = fit_costs(rows);
+  json validation = json::array();
+  for (const WorkSample& view : views) validation.push_back(row_json(view, fit));
+  calibration.detail["validation"] = validation;
   calibration.detail["budget_seconds"] = options.budget_seconds;
   calibration.detail["seed"] = options.seed;
   calibration.detail["seconds"] = seconds_since(start);

@@ -4,6 +4,9 @@
 // thread (CPU time), and a least-squares fit of time per ray against the counts the
 // traversal itself reports; Subcost from the eager build timed apart. The constants are
 // relative (intcost = 1): the cost function only compares them with each other (§6.5).
+// Intcost is what a triangle of a cell the ray searches costs it, as the cost function
+// counts triangles: its box test, and the real test only for the share of triangles whose
+// box real rays cross (most boxes are missed).
 #pragma once
 #include <array>
 #include <cstdint>
@@ -14,7 +17,6 @@
 #include "core/accel/grid1d/cost_constants.h"
 
 namespace gs {
-
 
 struct CalibrateOptions {
   static constexpr double kDefaultBudget = 20.0;
@@ -28,7 +30,8 @@ struct WorkSample {
   std::string label;
   double rays = 0;
   double tests = 0, rejections = 0, steps = 0, descents = 0;  // per ray
-  double seconds = 0;                                         // per ray, warm median
+  double leaf_triangles = 0;  // per ray: triangles of the leaves searched (each box-tested)
+  double seconds = 0;         // per ray, warm median
 };
 
 // One eager build: the triangles sorted into cells (the sum of N over the voxels cut,
@@ -40,8 +43,17 @@ struct BuildSample {
   double voxels = 0;  // examined (reported, not fitted)
 };
 
-// The terms of time per ray = ray + a tests + b rejections + c steps + d descents.
-enum FitTerm { kRayTerm, kTestTerm, kRejectionTerm, kStepTerm, kDescentTerm, kFitTerms };
+// The terms of time per ray = ray + a tests + b rejections + c steps + d descents
+// + e leaf triangles.
+enum FitTerm {
+  kRayTerm,
+  kTestTerm,
+  kRejectionTerm,
+  kStepTerm,
+  kDescentTerm,
+  kLeafTriangleTerm,
+  kFitTerms
+};
 
 struct CostFit {
   std::array<double, kFitTerms> seconds{};  // per unit of each term
@@ -59,11 +71,13 @@ struct CostFit {
 CostFit fit_costs(std::span<const WorkSample> rows);
 double predicted_seconds(const CostFit& fit, const WorkSample& row);
 
-// The constants from measurements: the fit's coefficients over the test's, Subcost from the
-// builds' seconds per triangle sorted. A coefficient that is left out, not positive, or
-// whose standard error exceeds half its value keeps its default.
+// The constants from measurements: the fit's coefficients over the unit, Subcost from the
+// builds' seconds per triangle sorted. The unit (Intcost) is a leaf triangle's box test plus
+// `tested_share` (the real tests per leaf triangle of real rays, 0..1) of a real test. A
+// coefficient that is left out, not positive, or whose standard error exceeds half its value
+// keeps its default.
 Calibration calibration_from_measurements(std::span<const WorkSample> rows,
-                                          std::span<const BuildSample> builds);
+                                          std::span<const BuildSample> builds, double tested_share);
 
 // Measures on this machine (one thread). Throws UsageError for a budget that is not a
 // positive number of seconds.

@@ -26,10 +26,12 @@ Scene sphere_and_soup() {
                      test::make_soup(5, 300, glm::vec3(-2.0f), glm::vec3(2.0f), 0.1f));
 }
 
-// Eagerly built with small arrays and the paper's axis alternation: many levels, few cells.
+// Eagerly built with small arrays, the paper's axis alternation and tests dear against steps
+// and set-ups: many levels, few cells.
 std::unique_ptr<Grid1D> eager_grid(const Scene& scene) {
   AccelParams params;
   params.max_granularity = 4;
+  params.intcost = 4.0;
   params.axis = AxisRule::alternate;
   auto grid = std::make_unique<Grid1D>(params);
   grid->build(scene);

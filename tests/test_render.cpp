@@ -505,10 +505,10 @@ TEST(RenderCli, ZeroWithAShortOracleExitsWithStatus1NamingIt) {
 TEST(RenderCli, TraceWithTheImagesCameraBuildsTheRendersStructure) {
   const std::string camera = "eye=0.5,-2.2,1.4;target=0,0,0.3;up=0,0,1;fov=45";
   const Scene scene = load_scene("builtin:pyramid");
-  // A Subcost at which the shadow rays' segments change some cut on this small image, so that
+  // Constants at which the shadow rays' segments change some cut on this small image, so that
   // building without them (no --camera) gives a different structure.
   AccelParams params;
-  params.subcost = 25.0;
+  params.repcost = 0.35, params.travcost = 12.0, params.vertcost = 10.0, params.subcost = 25.0;
   Grid1D grid(params);
   grid.build(scene);
   sample_image(scene, grid, parse_camera(camera), settings_of(160, 120, 1, 0, 1));
@@ -522,8 +522,10 @@ TEST(RenderCli, TraceWithTheImagesCameraBuildsTheRendersStructure) {
             0);
   const auto traced = [&](const std::string& flags) {
     const test::CommandOutcome run = test::run_gridscope(
-        "trace builtin:pyramid --eager --subcost 25 --sample-image 160x120 --rays " + quoted(rays) +
-        " --out " + quoted(temp_path("image.hits")) + " --stats " + quoted(stats) + flags);
+        "trace builtin:pyramid --eager --repcost 0.35 --travcost 12 --vertcost 10 --subcost 25 "
+        "--sample-image 160x120 --rays " +
+        quoted(rays) + " --out " + quoted(temp_path("image.hits")) + " --stats " + quoted(stats) +
+        flags);
     EXPECT_EQ(run.status, 0) << run.err;
     const nlohmann::json record = nlohmann::json::parse(test::slurp(stats));
     return std::pair<uint64_t, uint64_t>(record.at("voxels_subdivided"), record.at("leaves"));

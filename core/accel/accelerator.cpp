@@ -20,6 +20,7 @@ void TraceCounters::add(const TraceCounters& other) {
   mailbox_rejections += other.mailbox_rejections;
   traversal_steps += other.traversal_steps;
   descents += other.descents;
+  leaf_triangles += other.leaf_triangles;
   voxels_built += other.voxels_built;
   lazy_build_seconds += other.lazy_build_seconds;
   packets += other.packets;

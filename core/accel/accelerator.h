@@ -29,6 +29,9 @@ struct TraceCounters {
   uint64_t descents = 0;            // set-ups in a subdivided voxel (grid1d: §6.2's Vertcost)
   uint64_t voxels_built = 0;        // voxels this thread examined (cut or made leaves) lazily
   double lazy_build_seconds = 0.0;  // time this thread spent building voxels
+  // Triangles of the leaves searched, one per ray: each one's box is tested, and only those
+  // whose box the ray crosses go on to a real test (what §6.2's Intcost is paid for).
+  uint64_t leaf_triangles = 0;
   // Packet traversal (Accelerator::trace_packet; only structures that walk rays together
   // count these).
   uint64_t packets = 0;               // packets walked together

@@ -30,7 +30,8 @@ constexpr ParamSpec cost(Param param, std::string_view flag, std::string_view ke
 
 constexpr std::array<ParamSpec, 15> kTable = {{
     cost(Param::intcost, "--intcost", "intcost", &P::intcost,
-         "Intcost (§6.2): the cost of one ray/triangle test"),
+         "Intcost (§6.2): the cost of one triangle of a cell a ray searches (its box test, "
+         "and a ray/triangle test if the ray crosses its box)"),
     cost(Param::repcost, "--repcost", "repcost", &P::repcost,
          "Repcost: the cost of a repeat test the mailbox rejects"),
     cost(Param::travcost, "--travcost", "travcost", &P::travcost,

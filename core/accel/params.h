@@ -31,14 +31,17 @@ inline constexpr uint64_t kMaxMemoryBudget = uint64_t{1} << 40;
 // Each run echoes these into its stats.
 struct AccelParams {
   // Section 6.2 code timings, relative units: `gridscope calibrate` on the development
-  // machine (AVX-512 kernel; README "Calibration" gives the runs) measured intcost 1 (4-6 ns
-  // a test), repcost 0.34-0.48, travcost 10-18, vertcost 9-14, subcost 13-14 (the two
-  // latest runs; earlier ones gave 23-31).
-  double intcost = 1.0;    // one ray/triangle test
-  double repcost = 0.35;   // a mailbox-rejected repeat
-  double travcost = 12.0;  // one step: a cell the walk looks at
-  double vertcost = 10.0;  // initialising a ray in a subdivided voxel
-  double subcost = 13.0;   // sorting one triangle into a voxel's cells
+  // machine (AVX-512 kernel; README "Calibration" gives the runs) measured, in units of a
+  // searched leaf's triangle (0.6-1.0 ns: its box test, and a real test for the 14% of them
+  // whose box real rays cross), repcost 0.85-1.8, vertcost 21-37, subcost 37-63: the
+  // defaults are the medians of three runs. Travcost is timed per cell searched (53-84) but
+  // charged by the cost function for every cell a ray crosses, most of which the walk passes
+  // without a look; 40 is where timed runs of camera rays put it (README "Calibration").
+  double intcost = 1.0;    // one triangle of a cell the ray searches
+  double repcost = 1.15;   // a mailbox-rejected repeat
+  double travcost = 40.0;  // one step: a cell the walk crosses
+  double vertcost = 33.0;  // initialising a ray in a subdivided voxel
+  double subcost = 60.0;   // sorting one triangle into a voxel's cells
   int max_granularity = 20;
   // The root's own cap, below max_granularity. The paper caps g "to encourage recursive
   // subdivision at higher levels of the tree, where scene distribution is unlikely to be

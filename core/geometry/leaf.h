@@ -235,6 +235,7 @@ inline bool test_leaf(const LeafView& leaf, const Kernel& kernel,
                       Record&& record = {}) {
   GRIDSCOPE_CHECK(kernel.lanes <= kMaxLanes && 64 % kernel.lanes == 0);
   const uint32_t group = (1u << kernel.lanes) - 1u;
+  counters.leaf_triangles += leaf.count;
   bool found = false;
   for (uint32_t block = 0; block < leaf.count; block += 64) {
     // Most boxes are missed: only the triangles whose box the ray crosses are looked at.

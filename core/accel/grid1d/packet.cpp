@@ -203,6 +203,7 @@ void Grid1D::search_leaf(const LeafView& leaf, uint64_t rays, PacketWalk& walk) 
   RayBoxLanes& box_lanes = context.ray_box_lanes;
   uint64_t searching = rays & ~walk.done, improved = 0;
   context.counters.traversal_steps += uint64_t(std::popcount(searching));
+  context.counters.leaf_triangles += uint64_t(std::popcount(searching)) * leaf.count;
   constexpr uint32_t kRun = 64;
   uint64_t crossing[kRun];
   for (uint32_t base = 0; base < leaf.count && searching != 0; base += kRun) {
