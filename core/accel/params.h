@@ -38,7 +38,7 @@ struct AccelParams {
   // charged by the cost function for every cell a ray crosses, most of which the walk passes
   // without a look; 40 is where timed runs of camera rays put it (README "Calibration").
   double intcost = 1.0;    // one triangle of a cell the ray searches
-  double repcost = 1.15;   // a mailbox-rejected repeat
+  double repcost = 1.75;   // a mailbox-rejected repeat
   double travcost = 40.0;  // one step: a cell the walk crosses
   double vertcost = 33.0;  // initialising a ray in a subdivided voxel
   double subcost = 60.0;   // sorting one triangle into a voxel's cells
