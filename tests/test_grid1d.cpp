@@ -579,6 +579,36 @@ TEST(Grid1DPackets, CoherentTilesWalkTogetherAndMatchBrute) {
   EXPECT_GT(counters.packet_step_rays, 2 * counters.packet_steps);
 }
 
+// The calibration's unit is a searched leaf's triangle (TraceCounters::leaf_triangles): with
+// the root kept one leaf of 20 triangles, each of 64 rays crossing the scene box searches it
+// once, alone or in a packet: 20 leaf triangles a ray, of which only those whose box the ray
+// crosses get a real test.
+TEST(Grid1DCounters, EachSearchedLeafCountsItsTrianglesOncePerRay) {
+  AccelParams params;
+  params.max_granularity = params.max_root_granularity = 1;
+  Grid1D grid(params);
+  grid.build(test::make_soup(3, 20, glm::vec3(0.0f), glm::vec3(1.0f), 0.2f));
+  std::vector<Ray> rays(64);
+  for (int i = 0; i < 64; ++i) {
+    rays[size_t(i)].origin = {0.1f + 0.8f * float(i % 8) / 7.0f, 0.1f + 0.8f * float(i / 8) / 7.0f,
+                              -1.0f};
+    rays[size_t(i)].dir = {0.0f, 0.0f, 1.0f};
+  }
+  const auto single = grid.make_context();
+  for (const Ray& ray : rays) grid.intersect(ray, *single);
+  ASSERT_EQ(grid.voxel(0).status.load(), Grid1D::kLeaf);
+  EXPECT_EQ(single->counters.leaf_triangles, 64u * 20u);
+  EXPECT_GT(single->counters.intersection_tests, 0u);
+  EXPECT_LT(single->counters.intersection_tests, 64u * 20u);
+
+  const auto packet = grid.make_context();
+  std::vector<Hit> hits(64);
+  const std::vector<uint64_t> keys(64);
+  grid.trace_packet(rays, keys, hits, false, *packet);
+  EXPECT_EQ(packet->counters.packet_rays, 64u);
+  EXPECT_EQ(packet->counters.leaf_triangles, 64u * 20u);
+}
+
 // Rays going different ways (octants) walk as one packet per way, and a way only one ray
 // takes is traced as a single ray: of seven rays through the one triangle, three along +z,
 // three along -z and one along +z but slightly toward -y, two packets of three walk and one

@@ -116,7 +116,7 @@ void StructureEditor::param_control(const ParamSpec& spec, const std::string& de
         using Value = std::remove_reference_t<decltype(value)>;
         if constexpr (std::is_same_v<Value, double>) {
           // Relative timings (§6.2) and densities span decades: logarithmic sliders.
-          const double lo = 0.0, hi = 100.0;
+          const double lo = 0.0, hi = 1000.0;
           ImGui::SliderScalar(label.c_str(), ImGuiDataType_Double, &value, &lo, &hi, "%.3g",
                               ImGuiSliderFlags_Logarithmic);
         } else if constexpr (std::is_same_v<Value, int>) {
