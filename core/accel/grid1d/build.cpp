@@ -328,8 +328,8 @@ uint32_t Grid1D::settle(uint32_t id, Context& context) const {
   const bool split = ref != kNone;
   if (!split) {
     ref = make_leaf(id);
-  } else if (const uint16_t sole = sole_cell(cut); sole != Node::kManyCells) {
-    const uint32_t cell = voxels_[id].first_child + sole;
+  } else if (const uint32_t node = child_ref::payload(ref); passable_chain(node)) {
+    const uint32_t cell = voxels_[id].first_child + nodes_[node].sole_cell;
     voxels_[cell].status.store(kBuilding, std::memory_order_relaxed);
     ref = settle(cell, context);
   }
@@ -647,12 +647,27 @@ uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
 }
 
 // The node a walk climbs to on axis a from below `node` (a voxel's nearest ancestor cut
-// along a, or kNone): `node` itself, or, when it is a chain voxel that holds all its
-// triangles in one cell (never walked in, settle), the node above it on a, and so on up.
-// Stepping there instead leaves the chain's empty cells without a look (docs/design.md
-// §1.3).
+// along a, or kNone): `node` itself, or, when it is a chain voxel the walk passes by
+// (passable_chain), the node above it on a, and so on up. Stepping there instead leaves the
+// chain's empty cells without a look (docs/design.md §1.3).
 uint32_t Grid1D::walk_above(uint32_t node, int a) const {
-  return node != kNone && nodes_[node].sole_cell != Node::kManyCells ? nodes_[node].above[a] : node;
+  return node != kNone && passable_chain(node) ? nodes_[node].above[a] : node;
+}
+
+// Whether the walk may pass chain node `node` (all its triangles in one cell) by: go from
+// the chain's top straight to its bottom (settle), and step, when the ray leaves the bottom
+// along the node's axis, in the node above it on that axis. After such a step the ray's
+// position on the other axes comes from that node's `above` entries, so they must be the
+// chain node's own: a node cut along another axis between the two (the chain sits in one of
+// its cells) would be skipped, and its other cells, which hold triangles, with it.
+bool Grid1D::passable_chain(uint32_t node) const {
+  const Node& chain = nodes_[node];
+  if (chain.sole_cell == Node::kManyCells) return false;
+  const uint32_t up = chain.above[chain.axis];
+  for (int c = 0; c < 3; ++c)
+    if (c != chain.axis && (up == kNone ? kNone : nodes_[up].above[c]) != chain.above[c])
+      return false;
+  return true;
 }
 
 // The one cell of a cut that holds triangles (Node::sole_cell), or Node::kManyCells; never

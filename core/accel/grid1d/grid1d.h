@@ -203,6 +203,7 @@ class Grid1D final : public Accelerator {
   static uint16_t sole_cell(const Cut& cut);
   static uint64_t occupied_cells(const Cut& cut);
   uint32_t walk_above(uint32_t node, int axis) const;
+  bool passable_chain(uint32_t node) const;
   void link_children(uint32_t voxel, const Cut& cut, uint32_t first_child, uint32_t node) const;
   double estimated_rays(uint32_t voxel, size_t crossing_count) const;
   uint32_t state_for(uint32_t axis, uint64_t granularity) const;
