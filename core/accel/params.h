@@ -33,8 +33,8 @@ struct AccelParams {
   // Section 6.2 code timings, relative units: `gridscope calibrate` on the development
   // machine (AVX-512 kernel; README "Calibration" gives the runs) measured, in units of a
   // searched leaf's triangle (0.6-1.0 ns: its box test, and a real test for the 14% of them
-  // whose box real rays cross), repcost 0.85-1.8, vertcost 21-37, subcost 37-63: the
-  // defaults are the medians of three runs. Travcost is timed per cell searched (53-84) but
+  // whose box real rays cross), repcost 0.85-1.8, vertcost 21-37, subcost 37-80: the
+  // defaults are the medians of three runs. Travcost is timed per cell searched (63-84) but
   // charged by the cost function for every cell a ray crosses, most of which the walk passes
   // without a look; 40 is where timed runs of camera rays put it (README "Calibration").
   double intcost = 1.0;    // one triangle of a cell the ray searches
