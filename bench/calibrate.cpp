@@ -25,11 +25,12 @@ using json = nlohmann::json;
 
 // The five §6.2 constants, by name, in the calibration and in the structure parameters.
 // The work each constant is the cost of, in kCostConstants' order (kRayTerm: Subcost,
-// timed from the build).
+// timed from the build; kTestTerm and kStepTerm: the unit and Travcost, each made of two
+// timings, see composite()).
 constexpr FitTerm kConstantTerms[] = {kTestTerm, kRejectionTerm, kStepTerm, kDescentTerm, kRayTerm};
 static_assert(std::size(kConstantTerms) == std::size(kCostConstants));
-constexpr const char* kTermNames[kFitTerms] = {"ray",  "test",    "rejection",
-                                               "step", "descent", "leaf triangle"};
+constexpr const char* kTermNames[kFitTerms] = {"ray",     "test",          "rejection",   "step",
+                                               "descent", "leaf triangle", "cell crossed"};
 
 // A coefficient whose standard error is more than this share of it is noise, not a timing.
 constexpr double kMaxRelativeError = 0.5;
@@ -41,7 +42,7 @@ constexpr double kDependentPivot = 1e-9;
 // The fit
 
 std::array<double, kFitTerms> counts_of(const WorkSample& row) {
-  return {1.0, row.tests, row.rejections, row.steps, row.descents, row.leaf_triangles};
+  return {1.0, row.tests, row.rejections, row.steps, row.descents, row.leaf_triangles, row.cells};
 }
 
 // The weighted normal equations (X^T W X) c = X^T W y over some of the terms, equilibrated
@@ -141,6 +142,7 @@ json row_json(const WorkSample& row, const CostFit& fit) {
           {"steps", row.steps},
           {"descents", row.descents},
           {"leaf_triangles", row.leaf_triangles},
+          {"cells_crossed", row.cells},
           {"nanoseconds_per_ray", row.seconds * 1e9},
           {"predicted_nanoseconds_per_ray", predicted * 1e9},
           {"relative_error", predicted / row.seconds - 1.0}};
@@ -287,6 +289,15 @@ std::vector<Scenario> make_scenarios(std::mt19937_64& rng) {
     scenarios.push_back({"steps, " + std::to_string(cells) + " cells", cell_row(cells, 1, 2, 0),
                          shaping_params(cells, 1), rays_along_row(cells, kRaysPerScenario, rng),
                          kStepTerm, [=](const Grid1D& grid) { return root_cells(grid) / 2.0; }});
+  // The row cut into its cells, a panel in every eighth (every 32nd) and in all of them a
+  // corner triangle whose box the rays miss: 8 (32) cells crossed per step, so that the fit
+  // tells a cell crossed (passed by its content box) from a step into a cell searched.
+  for (const auto& [cells, panel_stride] : {std::pair{64, 8}, std::pair{256, 32}})
+    scenarios.push_back({"cells, " + std::to_string(cells) + " cells, a panel in every " +
+                             std::to_string(panel_stride) + "th",
+                         cell_row(cells, 1, panel_stride, 0), shaping_params(cells, 1),
+                         rays_along_row(cells, kRaysPerScenario, rng), kCellTerm,
+                         [=](const Grid1D& grid) { return root_cells(grid) - 1.0; }});
   // Slivers along the row: met again, and rejected, in every cell holding them after the
   // first (all cells but the last).
   constexpr int kSliverRowCells = 32;
@@ -353,13 +364,23 @@ double warm_seconds_per_ray(const Accelerator& accel, const std::vector<Ray>& ra
   return median_of_passes(pass, share) / double(rays.size());
 }
 
+// Cells the rays crossed, per ray: from their recorded walks (the timed walk counts none).
+double cells_crossed_per_ray(const Grid1D& grid, const std::vector<Ray>& rays) {
+  const auto context = grid.make_context();
+  double cells = 0.0;
+  for (const Ray& ray : rays)
+    if (const std::optional<Walk> walk = grid.record_walk(ray, *context))
+      cells += double(walk->cells_crossed);
+  return cells / double(rays.size());
+}
+
 // The rays' work per ray, as the traversal counted it, and warm time per ray.
-WorkSample measure(const std::string& label, const Accelerator& accel, const std::vector<Ray>& rays,
+WorkSample measure(const std::string& label, const Grid1D& grid, const std::vector<Ray>& rays,
                    double share) {
   TraceCounters counters;
   WorkSample row;
   row.label = label;
-  row.seconds = warm_seconds_per_ray(accel, rays, share, counters);
+  row.seconds = warm_seconds_per_ray(grid, rays, share, counters);
   const double n = double(rays.size());
   row.rays = n;
   row.tests = double(counters.intersection_tests) / n;
@@ -367,6 +388,7 @@ WorkSample measure(const std::string& label, const Accelerator& accel, const std
   row.steps = double(counters.traversal_steps) / n;
   row.descents = double(counters.descents) / n;
   row.leaf_triangles = double(counters.leaf_triangles) / n;
+  row.cells = cells_crossed_per_ray(grid, rays);
   return row;
 }
 
@@ -442,20 +464,23 @@ std::vector<WorkSample> measure_views(double share) {
     std::vector<Ray> rays;
     for (int y = 0; y < kSide; ++y)
       for (int x = 0; x < kSide; ++x) rays.push_back(primary_ray(x, y));
-    const std::unique_ptr<Accelerator> grid = make_accelerator("grid1d", reference_params());
-    grid->build(scene);
-    sample_run(*grid, image_sample(rays, kSide, kSide), rays.size(), 1);
-    rows.push_back(measure("builtin:" + name + ", default view", *grid, rays, share));
+    Grid1D grid{reference_params()};
+    grid.build(scene);
+    sample_run(grid, image_sample(rays, kSide, kSide), rays.size(), 1);
+    rows.push_back(measure("builtin:" + name + ", default view", grid, rays, share));
   }
   return rows;
 }
 
-// Real tests per leaf triangle over the rows (each row's rays alike), 0 without leaf
-// triangles.
-double tested_share_of(std::span<const WorkSample> rows) {
-  double tests = 0.0, leaf_triangles = 0.0;
-  for (const WorkSample& row : rows) tests += row.tests, leaf_triangles += row.leaf_triangles;
-  return leaf_triangles > 0.0 ? std::min(1.0, tests / leaf_triangles) : 0.0;
+// Real tests per leaf triangle and steps per cell crossed over the rows (each row's rays
+// alike); 0 without leaf triangles or cells.
+RealRayShares shares_of(std::span<const WorkSample> rows) {
+  double tests = 0.0, leaf_triangles = 0.0, steps = 0.0, cells = 0.0;
+  for (const WorkSample& row : rows)
+    tests += row.tests, leaf_triangles += row.leaf_triangles, steps += row.steps,
+        cells += row.cells;
+  return {leaf_triangles > 0.0 ? std::min(1.0, tests / leaf_triangles) : 0.0,
+          cells > 0.0 ? steps / cells : 0.0};
 }
 
 // Parts of the budget: traced rows (the synthetic scenes and the validation), builds.
@@ -503,30 +528,35 @@ double predicted_seconds(const CostFit& fit, const WorkSample& row) {
   return seconds;
 }
 
-// Why the unit cannot be measured (empty when it can): a leaf triangle's box test and a
-// real test must both be timings.
-std::string why_no_unit(const CostFit& fit) {
-  for (const FitTerm term : {kLeafTriangleTerm, kTestTerm})
+// A constant made of two timings, `base` + share x `shared` (the unit: a leaf triangle's box
+// test and the tested share of a real test; Travcost: a cell crossed and the searched
+// share of a step into a cell searched): its seconds and standard error, or why it cannot
+// be measured (both must be timings).
+struct Composite {
+  double seconds = 0.0, standard_error = 0.0;
+  std::string problem;
+};
+Composite composite(const CostFit& fit, FitTerm base, FitTerm shared, double share) {
+  for (const FitTerm term : {base, shared})
     if (std::string problem = why_unidentified(fit, term); !problem.empty())
-      return std::string("the ") + kTermNames[term] + "'s cost: " + problem;
-  return "";
+      return {0.0, 0.0, std::string("the ") + kTermNames[term] + "'s cost: " + problem};
+  return {fit.seconds[base] + share * fit.seconds[shared],
+          std::hypot(fit.standard_error[base], share * fit.standard_error[shared]), ""};
 }
 
 Calibration calibration_from_measurements(std::span<const WorkSample> rows,
                                           std::span<const BuildSample> builds,
-                                          double tested_share) {
+                                          RealRayShares shares) {
   const CostFit fit = fit_costs(rows);
   Calibration calibration;
   json constants = json::object(), unidentified = json::object();
   // Intcost, the unit: what one triangle of a searched cell costs a real ray (§6.4 counts
   // every triangle of the cell the ray crosses), its box test and, for the share of them
   // whose box the ray crosses, a real test.
-  const std::string unit_problem = why_no_unit(fit);
-  const double unit = unit_problem.empty()
-                          ? fit.seconds[kLeafTriangleTerm] + tested_share * fit.seconds[kTestTerm]
-                          : 0.0;
-  const double unit_error = std::hypot(fit.standard_error[kLeafTriangleTerm],
-                                       tested_share * fit.standard_error[kTestTerm]);
+  const Composite unit = composite(fit, kLeafTriangleTerm, kTestTerm, shares.tested);
+  // Travcost: what one cell crossed costs a real ray (§6.4 counts every cell a ray crosses),
+  // passing it by and, for the share of cells a ray searches, the step into it.
+  const Composite travel = composite(fit, kCellTerm, kStepTerm, shares.searched);
 
   double build_seconds = 0.0, triangles_sorted = 0.0;
   json build_rows = json::array();
@@ -547,17 +577,20 @@ Calibration calibration_from_measurements(std::span<const WorkSample> rows,
   for (size_t k = 0; k < std::size(kCostConstants); ++k) {
     const CostConstant& constant = kCostConstants[k];
     const FitTerm term = kConstantTerms[k];
-    const bool from_build = term == kRayTerm, is_unit = term == kTestTerm;
-    const double seconds = from_build ? sort_seconds : is_unit ? unit : fit.seconds[term];
+    const bool from_build = term == kRayTerm;
+    const Composite* made_of = term == kTestTerm ? &unit : term == kStepTerm ? &travel : nullptr;
+    const double seconds = from_build ? sort_seconds
+                           : made_of  ? made_of->seconds
+                                      : fit.seconds[term];
     std::string problem =
-        unit == 0.0 ? "intcost, the unit, is not measured: " + unit_problem
+        !unit.problem.empty() ? "intcost, the unit, is not measured: " + unit.problem
         : from_build
             ? (sort_seconds > 0.0 ? ""
                                   : "the builds sorted no triangle into cells in measurable time")
-        : is_unit ? ""
+        : made_of ? made_of->problem
                   : why_unidentified(fit, term);
     if (problem.empty())
-      calibration.*constant.calibrated = seconds / unit;
+      calibration.*constant.calibrated = seconds / unit.seconds;
     else
       unidentified[constant.name] = problem + "; kept the default";
     constants[constant.name] = {
@@ -567,27 +600,32 @@ Calibration calibration_from_measurements(std::span<const WorkSample> rows,
         {"nanoseconds", seconds * 1e9},
         {"standard_error_nanoseconds",
          from_build ? json(nullptr)
-                    : json((is_unit ? unit_error : fit.standard_error[term]) * 1e9)},
-        {"work", from_build ? "triangle sorted into cells (eager build)"
-                 : is_unit  ? "triangle of a searched leaf: its box test, and a test for the "
-                              "tested share"
-                            : kTermNames[term]}};
+                    : json((made_of ? made_of->standard_error : fit.standard_error[term]) * 1e9)},
+        {"work", from_build          ? "triangle sorted into cells (eager build)"
+                 : term == kTestTerm ? "triangle of a searched leaf: its box test, and a test "
+                                       "for the tested share"
+                 : term == kStepTerm ? "cell crossed: passed by, or for the searched share a "
+                                       "step into it"
+                                     : kTermNames[term]}};
   }
-  calibration.nanoseconds_per_unit = unit * 1e9;
+  calibration.nanoseconds_per_unit = unit.seconds * 1e9;
 
   json fit_rows = json::array();
   for (const WorkSample& row : rows) fit_rows.push_back(row_json(row, fit));
   calibration.detail = {
       {"constants", constants},
       {"per_ray_nanoseconds", fit.seconds[kRayTerm] * 1e9},
-      {"tested_share", tested_share},
+      {"tested_share", shares.tested},
       {"test_nanoseconds", fit.seconds[kTestTerm] * 1e9},
       {"leaf_triangle_nanoseconds", fit.seconds[kLeafTriangleTerm] * 1e9},
+      {"searched_per_cell", shares.searched},
+      {"step_nanoseconds", fit.seconds[kStepTerm] * 1e9},
+      {"cell_nanoseconds", fit.seconds[kCellTerm] * 1e9},
       {"fit",
        {{"model",
-         "seconds per ray = ray + a tests + b leaf triangles + repcost rejections + travcost "
-         "steps + vertcost descents, least squares weighted by 1 / time; intcost = b + "
-         "tested_share a"},
+         "seconds per ray = ray + a tests + b leaf triangles + c steps + e cells crossed + "
+         "repcost rejections + vertcost descents, least squares weighted by 1 / time; intcost "
+         "= b + tested_share a, travcost = e + searched_per_cell c"},
         {"rms_relative_residual", fit.rms_relative_residual},
         {"rows", fit_rows}}},
       {"build", {{"triangles_sorted", triangles_sorted}, {"rows", build_rows}}},
@@ -610,7 +648,7 @@ Calibration calibrate(const CalibrateOptions& options) {
   const std::vector<BuildSample> builds =
       measure_builds(options.budget_seconds * (1.0 - kTraceShare));
   const std::vector<WorkSample> views = measure_views(share);
-  Calibration calibration = calibration_from_measurements(rows, builds, tested_share_of(views));
+  Calibration calibration = calibration_from_measurements(rows, builds, shares_of(views));
   calibration.detail["designs"] = designs;
   const CostFit fit = fit_costs(rows);
   json validation = json::array();

@@ -31,6 +31,7 @@ struct WorkSample {
   double rays = 0;
   double tests = 0, rejections = 0, steps = 0, descents = 0;  // per ray
   double leaf_triangles = 0;  // per ray: triangles of the leaves searched (each box-tested)
+  double cells = 0;           // per ray: cells crossed, searched or passed by (Walk::cells_crossed)
   double seconds = 0;         // per ray, warm median
 };
 
@@ -44,7 +45,7 @@ struct BuildSample {
 };
 
 // The terms of time per ray = ray + a tests + b rejections + c steps + d descents
-// + e leaf triangles.
+// + e leaf triangles + f cells crossed.
 enum FitTerm {
   kRayTerm,
   kTestTerm,
@@ -52,6 +53,7 @@ enum FitTerm {
   kStepTerm,
   kDescentTerm,
   kLeafTriangleTerm,
+  kCellTerm,
   kFitTerms
 };
 
@@ -71,13 +73,24 @@ struct CostFit {
 CostFit fit_costs(std::span<const WorkSample> rows);
 double predicted_seconds(const CostFit& fit, const WorkSample& row);
 
+// What real rays do with the cells they meet: of a searched leaf's triangles, the share
+// tested for real (tests / leaf triangles, 0..1); per cell crossed, the cells searched
+// (steps / cells crossed; it may exceed 1, a ray that goes down into a cell searches it
+// without crossing a wall).
+struct RealRayShares {
+  double tested = 0.0, searched = 0.0;
+};
+
 // The constants from measurements: the fit's coefficients over the unit, Subcost from the
-// builds' seconds per triangle sorted. The unit (Intcost) is a leaf triangle's box test plus
-// `tested_share` (the real tests per leaf triangle of real rays, 0..1) of a real test. A
-// coefficient that is left out, not positive, or whose standard error exceeds half its value
-// keeps its default.
+// builds' seconds per triangle sorted. The cost function counts cells and their triangles,
+// not what the walk does with them, so two constants are made of two timings each: the unit
+// (Intcost, a triangle of a searched cell) is a leaf triangle's box test plus the tested
+// share of a real test, and Travcost (a cell crossed) is a cell crossed plus the searched
+// share of a step into a cell searched. A coefficient that is left out, not positive, or
+// whose standard error exceeds half its value keeps its default.
 Calibration calibration_from_measurements(std::span<const WorkSample> rows,
-                                          std::span<const BuildSample> builds, double tested_share);
+                                          std::span<const BuildSample> builds,
+                                          RealRayShares shares);
 
 // Measures on this machine (one thread). Throws UsageError for a budget that is not a
 // positive number of seconds.

@@ -21,32 +21,39 @@ using json = nlohmann::json;
 // Seconds per unit of each term, chosen unlike the defaults' ratios.
 struct KnownCosts {
   double ray = 40e-9, test = 20e-9, rejection = 3e-9, step = 8e-9, descent = 15e-9;
-  double leaf_triangle = 1e-9;
+  double leaf_triangle = 1e-9, cell = 0.5e-9;
   double seconds_of(const WorkSample& row) const {
     return ray + test * row.tests + rejection * row.rejections + step * row.steps +
-           descent * row.descents + leaf_triangle * row.leaf_triangles;
+           descent * row.descents + leaf_triangle * row.leaf_triangles + cell * row.cells;
   }
 };
 
 // Counts shaped like the calibration's scenarios (leaves whose boxes the rays cross or miss,
-// walks, slivers, descents), and their exact times under `costs`.
+// walks, walks past cells, slivers, descents), and their exact times under `costs`.
 std::vector<WorkSample> exact_rows(const KnownCosts& costs, bool with_rejections = true,
-                                   bool with_box_misses = true) {
+                                   bool with_box_misses = true, bool with_cells_passed = true) {
   std::vector<WorkSample> rows = {
-      {"leaf 8", 100, 8, 0, 0, 0, 10},          {"leaf 512", 100, 512, 0, 0, 0, 514},
-      {"walk 16", 100, 9, 0, 15, 1, 16},        {"walk 256", 100, 129, 0, 255, 1, 256},
-      {"slivers 16", 100, 48, 496, 31, 1, 517}, {"slivers 64", 100, 96, 1920, 30, 1, 1572},
-      {"descents 3", 100, 1, 0, 0.01, 3, 1},    {"descents 12", 100, 1, 0, 0.02, 12, 1},
-      {"box tests 64", 100, 0, 0, 1, 0, 64},    {"box tests 512", 100, 0, 0, 1, 0, 512},
+      {"leaf 8", 100, 8, 0, 1, 0, 10, 0},           {"leaf 512", 100, 512, 0, 1, 0, 514, 0},
+      {"walk 16", 100, 9, 0, 8, 1, 16, 15},         {"walk 256", 100, 129, 0, 128, 1, 256, 255},
+      {"cells 64", 100, 8, 0, 8, 1, 16, 63},        {"cells 256", 100, 8, 0, 8, 1, 16, 255},
+      {"slivers 16", 100, 48, 496, 31, 1, 517, 31}, {"slivers 64", 100, 96, 1920, 30, 1, 1572, 30},
+      {"descents 3", 100, 1, 0, 1, 3, 1, 0.01},     {"descents 12", 100, 1, 0, 1, 12, 1, 0.4},
+      {"box tests 64", 100, 0, 0, 1, 0, 64, 0},     {"box tests 512", 100, 0, 0, 1, 0, 512, 0},
   };
   for (WorkSample& row : rows) {
     if (!with_rejections) row.rejections = 0;
     // Without leaves whose boxes the rays miss, leaf triangles follow tests and steps.
     if (!with_box_misses) row.leaf_triangles = row.tests + row.steps;
+    // Without cells passed by, every cell crossed is one searched.
+    if (!with_cells_passed) row.cells = row.steps;
     row.seconds = costs.seconds_of(row);
   }
   return rows;
 }
+
+// A quarter of a searched leaf's triangles tested for real, half a cell searched per cell
+// crossed.
+constexpr RealRayShares kShares{0.25, 0.5};
 
 const std::vector<BuildSample> kBuilds = {{"a", 1000, 1000 * 50e-9}, {"b", 3000, 3000 * 50e-9}};
 
@@ -54,7 +61,8 @@ TEST(Calibrate, FitRecoversKnownCosts) {
   const KnownCosts costs;
   const CostFit fit = fit_costs(exact_rows(costs));
   const double expected[kFitTerms] = {costs.ray,  costs.test,    costs.rejection,
-                                      costs.step, costs.descent, costs.leaf_triangle};
+                                      costs.step, costs.descent, costs.leaf_triangle,
+                                      costs.cell};
   for (int t = 0; t < kFitTerms; ++t) {
     EXPECT_TRUE(fit.fitted[t]) << t;
     EXPECT_NEAR(fit.seconds[t], expected[t], 1e-9 * expected[t]) << t;
@@ -64,40 +72,47 @@ TEST(Calibrate, FitRecoversKnownCosts) {
 }
 
 // The unit is a searched leaf's triangle: its box test (1 ns) and, for the tested share of
-// them, a real test (20 ns): 1 + 0.25 * 20 = 6 ns.
+// them, a real test (20 ns): 1 + 0.25 * 20 = 6 ns. Travcost is a cell crossed: passing it
+// (0.5 ns) and, for the cells searched per cell crossed, a step into one (8 ns):
+// 0.5 + 0.5 * 8 = 4.5 ns.
 TEST(Calibrate, ConstantsAreRelativeToALeafTriangle) {
   const Calibration calibration =
-      calibration_from_measurements(exact_rows(KnownCosts{}), kBuilds, 0.25);
+      calibration_from_measurements(exact_rows(KnownCosts{}), kBuilds, kShares);
   EXPECT_DOUBLE_EQ(calibration.intcost, 1.0);
   EXPECT_NEAR(calibration.nanoseconds_per_unit, 6.0, 1e-9);
   EXPECT_NEAR(calibration.repcost, 3.0 / 6.0, 1e-9);
-  EXPECT_NEAR(calibration.travcost, 8.0 / 6.0, 1e-9);
+  EXPECT_NEAR(calibration.travcost, 4.5 / 6.0, 1e-9);
   EXPECT_NEAR(calibration.vertcost, 15.0 / 6.0, 1e-9);
   EXPECT_NEAR(calibration.subcost, 50.0 / 6.0, 1e-9);
   EXPECT_TRUE(calibration.detail.at("unidentified").empty());
   EXPECT_NEAR(calibration.detail.at("per_ray_nanoseconds").get<double>(), 40.0, 1e-6);
   EXPECT_EQ(calibration.detail.at("tested_share").get<double>(), 0.25);
+  EXPECT_EQ(calibration.detail.at("searched_per_cell").get<double>(), 0.5);
 
-  // Every triangle tested for real: the unit is a box test and a test; none: a box test.
-  EXPECT_NEAR(
-      calibration_from_measurements(exact_rows(KnownCosts{}), kBuilds, 1.0).nanoseconds_per_unit,
-      21.0, 1e-9);
-  EXPECT_NEAR(calibration_from_measurements(exact_rows(KnownCosts{}), kBuilds, 0.0).travcost, 8.0,
-              1e-9);
+  // Every triangle tested for real: the unit is a box test and a test; none: a box test
+  // (1 ns). No cell searched: Travcost is passing a cell; two searched per cell crossed
+  // (rays that go down into cells): two steps and a cell passed.
+  const auto with_shares = [](RealRayShares shares) {
+    return calibration_from_measurements(exact_rows(KnownCosts{}), kBuilds, shares);
+  };
+  EXPECT_NEAR(with_shares({1.0, 0.5}).nanoseconds_per_unit, 21.0, 1e-9);
+  EXPECT_NEAR(with_shares({0.0, 0.0}).travcost, 0.5, 1e-9);
+  EXPECT_NEAR(with_shares({0.0, 2.0}).travcost, 16.5, 1e-9);
 }
 
 TEST(Calibrate, UnmeasuredConstantKeepsItsDefaultAndSaysWhy) {
   const AccelParams defaults;
   // No rejections anywhere: repcost cannot be measured.
   Calibration calibration =
-      calibration_from_measurements(exact_rows(KnownCosts{}, false), kBuilds, 0.25);
+      calibration_from_measurements(exact_rows(KnownCosts{}, false), kBuilds, kShares);
   EXPECT_EQ(calibration.repcost, defaults.repcost);
   EXPECT_TRUE(calibration.detail.at("unidentified").contains("repcost"));
-  EXPECT_NEAR(calibration.travcost, 8.0 / 6.0, 1e-9);
+  EXPECT_NEAR(calibration.travcost, 4.5 / 6.0, 1e-9);
 
   // Leaf triangles that only ever come with tests and steps (no leaf whose boxes the rays
   // miss): a box test cannot be told from a test, so the unit is not measured.
-  calibration = calibration_from_measurements(exact_rows(KnownCosts{}, true, false), kBuilds, 0.25);
+  calibration =
+      calibration_from_measurements(exact_rows(KnownCosts{}, true, false), kBuilds, kShares);
   EXPECT_EQ(calibration.nanoseconds_per_unit, 0.0);
   EXPECT_EQ(calibration.travcost, defaults.travcost);
   EXPECT_EQ(calibration.detail.at("unidentified").size(), 5u);
@@ -105,17 +120,28 @@ TEST(Calibrate, UnmeasuredConstantKeepsItsDefaultAndSaysWhy) {
   // A step that "saves" time is no timing.
   KnownCosts negative;
   negative.step = -2e-9;
-  calibration = calibration_from_measurements(exact_rows(negative), kBuilds, 0.25);
+  calibration = calibration_from_measurements(exact_rows(negative), kBuilds, kShares);
   EXPECT_EQ(calibration.travcost, defaults.travcost);
   EXPECT_TRUE(calibration.detail.at("unidentified").contains("travcost"));
 
+  // Every cell crossed searched (none passed by): a cell crossed cannot be told from a step,
+  // so Travcost is not measured, and says which timing is missing.
+  calibration =
+      calibration_from_measurements(exact_rows(KnownCosts{}, true, true, false), kBuilds, kShares);
+  EXPECT_EQ(calibration.travcost, defaults.travcost);
+  EXPECT_NEAR(calibration.repcost, 3.0 / 6.0, 1e-9);
+  EXPECT_EQ(calibration.detail.at("unidentified").size(), 1u);
+  EXPECT_NE(
+      calibration.detail.at("unidentified").at("travcost").get<std::string>().find("cell crossed"),
+      std::string::npos);
+
   // No build measured: subcost stays.
-  calibration = calibration_from_measurements(exact_rows(KnownCosts{}), {}, 0.25);
+  calibration = calibration_from_measurements(exact_rows(KnownCosts{}), {}, kShares);
   EXPECT_EQ(calibration.subcost, defaults.subcost);
   EXPECT_TRUE(calibration.detail.at("unidentified").contains("subcost"));
 
   // Without the unit nothing can be expressed in it: every default, every one named.
-  calibration = calibration_from_measurements({}, kBuilds, 0.25);
+  calibration = calibration_from_measurements({}, kBuilds, kShares);
   EXPECT_EQ(calibration.nanoseconds_per_unit, 0.0);
   EXPECT_EQ(to_json(calibration).at("intcost"), defaults.intcost);
   EXPECT_EQ(calibration.vertcost, defaults.vertcost);
@@ -135,7 +161,8 @@ TEST(Calibrate, NoisyRowsGiveStandardErrors) {
 }
 
 TEST(Calibrate, JsonRoundTrip) {
-  Calibration calibration = calibration_from_measurements(exact_rows(KnownCosts{}), kBuilds, 0.25);
+  Calibration calibration =
+      calibration_from_measurements(exact_rows(KnownCosts{}), kBuilds, kShares);
   calibration.vertcost = 7.25;
   const Calibration back = calibration_from_json(to_json(calibration), "memory");
   EXPECT_EQ(to_json(back), to_json(calibration));
@@ -218,6 +245,10 @@ TEST(Calibrate, ShortRealRunMeasuresEveryConstant) {
   const double share = calibration.detail.at("tested_share").get<double>();
   EXPECT_GT(share, 0.0);
   EXPECT_LT(share, 1.0);
+  // And search some of the cells they cross (the rest are passed by).
+  const double searched = calibration.detail.at("searched_per_cell").get<double>();
+  EXPECT_GT(searched, 0.0);
+  EXPECT_LT(searched, 1.0);
 }
 
 TEST(Calibrate, BudgetMustBePositive) {

@@ -655,6 +655,51 @@ TEST(Grid1DPackets, CoherentTilesWalkTogetherAndMatchBrute) {
   EXPECT_GT(counters.packet_step_rays, 2 * counters.packet_steps);
 }
 
+// A recorded walk counts the walls it crosses along the nodes' axes, cells it looks at and
+// cells it passes by alike (Travcost's work, §6.2): a row [0, 8] x [0, 1] x [0, 1] cut into
+// eight unit cells along x, whose triangles lie in the cells' corners off the rays, crossed
+// end to end (7 walls), from inside cell 2 (5), stopped in cell 4 (4), the other way (7),
+// and across one cell (none).
+TEST(Grid1DWalk, CountsTheCellsARayCrosses) {
+  Scene scene;
+  const auto add = [&scene](glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+    const auto first = uint32_t(scene.vertices.size());
+    scene.vertices.insert(scene.vertices.end(), {a, b, c});
+    scene.triangles.push_back({first, first + 1, first + 2});
+  };
+  for (int i = 0; i < 8; ++i) {
+    const float x = float(i) + 0.4f;
+    add({x, 0.0f, 0.0f}, {x + 0.2f, 0.0f, 0.0f}, {x + 0.1f, 0.1f, 0.1f});
+  }
+  add({0.0f, 0.9f, 0.9f}, {0.1f, 1.0f, 1.0f}, {0.0f, 1.0f, 0.9f});  // the box's corners
+  add({7.9f, 0.9f, 0.9f}, {8.0f, 1.0f, 1.0f}, {8.0f, 0.9f, 1.0f});
+  AccelParams params;
+  params.repcost = params.travcost = params.vertcost = params.subcost = 0.0;
+  params.max_granularity = params.max_root_granularity = 8;
+  params.max_depth = 1;
+  Grid1D grid(params);
+  grid.build(scene);
+  grid.build_all();
+  ASSERT_EQ(grid.voxel(0).status.load(), Grid1D::kSplit);
+  ASSERT_EQ(grid.voxel(0).axis, 0);
+  ASSERT_EQ(grid.voxel(0).granularity, 8u);
+
+  const auto crossed = [&](glm::vec3 origin, glm::vec3 dir, float tmax) {
+    Ray ray;
+    ray.origin = origin, ray.dir = dir, ray.tmax = tmax;
+    const auto context = grid.make_context();
+    const std::optional<Walk> walk = grid.record_walk(ray, *context);
+    EXPECT_TRUE(walk && !walk->hit.found());
+    return walk ? walk->cells_crossed : ~uint64_t{0};
+  };
+  const float inf = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(crossed({-1.0f, 0.45f, 0.45f}, {1.0f, 0.01f, 0.02f}, inf), 7u);
+  EXPECT_EQ(crossed({2.5f, 0.45f, 0.45f}, {1.0f, 0.01f, 0.02f}, inf), 5u);
+  EXPECT_EQ(crossed({-1.0f, 0.45f, 0.45f}, {1.0f, 0.01f, 0.02f}, 5.2f), 4u);
+  EXPECT_EQ(crossed({9.0f, 0.55f, 0.55f}, {-1.0f, -0.01f, -0.02f}, inf), 7u);
+  EXPECT_EQ(crossed({3.5f, -1.0f, 0.5f}, {0.0f, 1.0f, 0.01f}, inf), 0u);
+}
+
 // The calibration's unit is a searched leaf's triangle (TraceCounters::leaf_triangles): with
 // the root kept one leaf of 20 triangles, each of 64 rays crossing the scene box searches it
 // once, alone or in a packet: 20 leaf triangles a ray, of which only those whose box the ray

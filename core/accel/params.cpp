@@ -35,7 +35,8 @@ constexpr std::array<ParamSpec, 15> kTable = {{
     cost(Param::repcost, "--repcost", "repcost", &P::repcost,
          "Repcost: the cost of a repeat test the mailbox rejects"),
     cost(Param::travcost, "--travcost", "travcost", &P::travcost,
-         "Travcost: the cost of one cell step"),
+         "Travcost: the cost of one cell a ray crosses (passing it by, or stepping into it "
+         "to search it)"),
     cost(Param::vertcost, "--vertcost", "vertcost", &P::vertcost,
          "Vertcost: the cost of setting a ray up in a subdivided voxel"),
     cost(Param::subcost, "--subcost", "subcost", &P::subcost,

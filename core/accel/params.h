@@ -33,13 +33,12 @@ struct AccelParams {
   // Section 6.2 code timings, relative units: `gridscope calibrate` on the development
   // machine (AVX-512 kernel; README "Calibration" gives the runs) measured, in units of a
   // searched leaf's triangle (0.6-1.0 ns: its box test, and a real test for the 14% of them
-  // whose box real rays cross), repcost 0.85-1.8, vertcost 21-37, subcost 37-80: the
-  // defaults are the medians of three runs. Travcost is timed per cell searched (63-84) but
-  // charged by the cost function for every cell a ray crosses, most of which the walk passes
-  // without a look; 40 is where timed runs of camera rays put it (README "Calibration").
+  // whose box real rays cross), repcost 0.85-1.8, travcost 24-25 (a cell crossed: passed by,
+  // or for the 30% of them real rays search, stepped into), vertcost 21-40, subcost 37-80:
+  // the defaults are the medians of three runs.
   double intcost = 1.0;    // one triangle of a cell the ray searches
   double repcost = 1.75;   // a mailbox-rejected repeat
-  double travcost = 40.0;  // one step: a cell the walk crosses
+  double travcost = 25.0;  // a cell the walk crosses
   double vertcost = 33.0;  // initialising a ray in a subdivided voxel
   double subcost = 60.0;   // sorting one triangle into a voxel's cells
   int max_granularity = 20;

@@ -74,7 +74,7 @@ std::vector<Structure> make_structures() {
                  {Param::max_root_granularity, {4, 20}},
                  {Param::intcost, {0.5, 2}},
                  {Param::repcost, {0.5, 2.5}},
-                 {Param::travcost, {20, 80}},
+                 {Param::travcost, {12, 50}},
                  {Param::vertcost, {15, 60}},
                  {Param::subcost, {25, 100}}},
        .colour = {214, 39, 40},  // red

@@ -60,6 +60,7 @@ nlohmann::json to_json(const Walk& walk) {
            {{"id", walk.hit.id}, {"t", number(walk.hit.t)}, {"u", walk.hit.u}, {"v", walk.hit.v}}},
           {"t_leave", number(walk.t_leave)},
           {"steps", walk.cells.size()},
+          {"cells_crossed", walk.cells_crossed},
           {"cells", std::move(cells)}};
 }
 

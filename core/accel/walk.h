@@ -54,6 +54,10 @@ struct Walk {
   // Where the ray leaves the scene box (no further than tmax); +inf when it never enters it.
   double t_leave = std::numeric_limits<double>::infinity();
   std::vector<WalkCell> cells;
+  // Walls the walk crossed along the axes of the subdivided voxels it stepped in: every cell
+  // it passed, looked at or passed by (what §6.2's Travcost prices: the cost function charges
+  // it for each cell a ray crosses).
+  uint64_t cells_crossed = 0;
 };
 
 nlohmann::json to_json(const Walk& walk);

@@ -147,9 +147,12 @@ class Grid1D final : public Accelerator {
                      Recorder& recorder) const;
   template <bool AnyHit, class Recorder>
   bool search(const LeafView& leaf, RayWalk& walk, Context& context, Recorder& recorder) const;
-  bool next_cell(Cursor& cursor, RayWalk& walk, Context& context) const;
+  template <class Recorder>
+  bool next_cell(Cursor& cursor, RayWalk& walk, Context& context, Recorder& recorder) const;
+  template <class Recorder>
   int64_t seek(uint32_t node, int64_t from, bool from_is_current, Cursor& cursor, RayWalk& walk,
-               Context& context) const;
+               Context& context, Recorder& recorder) const;
+  int64_t slab_at(const Node& node, double t, const RayWalk& walk) const;
   bool holds_start(uint32_t node, int64_t cell, const RayWalk& walk) const;
   void activate(int axis, uint32_t node, uint32_t state, RayWalk& walk) const;
   template <class Recorder>

@@ -32,6 +32,7 @@ struct Grid1D::NullRecorder {
   void tested(uint32_t /*count*/) {}
   void rejected() {}
   void searched(int32_t /*best*/) {}
+  void crossed(int64_t /*cells*/) {}
 };
 
 // Fills a Walk from the hooks the traversal calls: the cells the walk looked at, in order,
@@ -69,6 +70,7 @@ class Grid1D::WalkRecorder {
   void tested(uint32_t count) { walk_.cells.back().tests += count; }
   void rejected() { ++walk_.cells.back().rejections; }
   void searched(int32_t best) { walk_.cells.back().hit = best; }
+  void crossed(int64_t cells) { walk_.cells_crossed += uint64_t(cells); }
 
  private:
   const Grid1D& grid_;
@@ -137,7 +139,7 @@ Hit Grid1D::trace(const Ray& ray, Context& context, Recorder& recorder) const {
                     std::max(cursor.entered, int(Cursor::kLocated)), cursor.climbed);
     if (search<AnyHit>(leaf_of(cursor.ref, context), walk, context, recorder) && AnyHit)
       return walk.best;
-  } while (next_cell(cursor, walk, context));
+  } while (next_cell(cursor, walk, context, recorder));
   return walk.best;
 }
 
@@ -187,7 +189,7 @@ bool Grid1D::enter(Cursor& cursor, RayWalk& walk, Context& context, Recorder& re
       return false;
     const int64_t cell = cursor.entered == Cursor::kAtStart && holds_start(id, local, walk)
                              ? local
-                             : seek(id, local, true, cursor, walk, context);
+                             : seek(id, local, true, cursor, walk, context, recorder);
     if (cell < 0) {
       recorder.discard_descents();
       return false;
@@ -249,7 +251,8 @@ inline bool Grid1D::holds_start(uint32_t id, int64_t cell, const RayWalk& walk) 
 // position comes from steps to its next cell whose contents the ray meets, climbing to the
 // node above when the array ends. False when the ray leaves the scene box, or the nearest
 // hit lies before the wall.
-bool Grid1D::next_cell(Cursor& cursor, RayWalk& walk, Context& context) const {
+template <class Recorder>
+bool Grid1D::next_cell(Cursor& cursor, RayWalk& walk, Context& context, Recorder& recorder) const {
   for (;;) {
     // Written as selects, not branches: which axis comes next is unpredictable.
     const bool y_first = walk.t_next[1] < walk.t_next[0];
@@ -279,7 +282,7 @@ bool Grid1D::next_cell(Cursor& cursor, RayWalk& walk, Context& context) const {
       walk.t_next[c] = context.states[walk.active_state[c]].t_next;
     }
     cursor.t = t_exit, cursor.entered = s;
-    const int64_t cell = seek(id, from, false, cursor, walk, context);
+    const int64_t cell = seek(id, from, false, cursor, walk, context, recorder);
     if (cell < 0) continue;  // the ray meets nothing more in this node: on to the next wall
     cursor.node = id, cursor.local = uint32_t(cell);
     cursor.ref = refs_[moved.children + uint32_t(cell)].load(std::memory_order_acquire);
@@ -308,9 +311,10 @@ inline void Grid1D::activate(int a, uint32_t node, uint32_t state, RayWalk& walk
 // the next step takes whichever wall comes first. The state moves to the array's last cell
 // only when the ray leaves the array through its end: a state always tells where the ray is,
 // until its t_next.
+template <class Recorder>
 [[gnu::always_inline]] inline int64_t Grid1D::seek(uint32_t id, int64_t from, bool from_is_current,
-                                                   Cursor& cursor, RayWalk& walk,
-                                                   Context& context) const {
+                                                   Cursor& cursor, RayWalk& walk, Context& context,
+                                                   Recorder& recorder) const {
   const Node& node = nodes_[id];
   const int b = node.axis, d = walk.step[b];
   const int64_t g = node.granularity;
@@ -368,24 +372,44 @@ inline void Grid1D::activate(int a, uint32_t node, uint32_t state, RayWalk& walk
              1u) {
     cell = from;
   }
+  // The recorder counts the walls crossed on the node's axis (Walk::cells_crossed): from the
+  // ray's slab to `slab`.
+  const auto cross_to = [&](int64_t slab) {
+    if constexpr (Recorder::kRecords) recorder.crossed(std::abs(slab - values.index));
+  };
   if (cell >= 0) {
     GRIDSCOPE_CHECK(cell < g);
     if (cell == from && from_is_current) return cell;
     const double t_in = entry(cell);
     if (t_in <= limit) {
+      cross_to(node.first_cell + cell);
       values.index = node.first_cell + cell;
       values.t_next = walk.t_next[b] = values.exit_distance(values.index, d);
       cursor.t = t_in, cursor.entered = b;
       return cell;
     }
     walk.t_next[b] = t_in;  // the ray leaves the node through another wall first
+    if constexpr (Recorder::kRecords) cross_to(slab_at(node, limit, walk));
     return -1;
   }
   const int64_t end = node.first_cell + (d > 0 ? g - 1 : 0);
   const double t_end = d == 0 ? kInf : values.exit_distance(end, d);
+  if constexpr (Recorder::kRecords)
+    if (d != 0) cross_to(t_end <= limit ? end : slab_at(node, limit, walk));
   if (t_end <= other) values.index = end, values.t_next = t_end;
   walk.t_next[b] = t_end;
   return -1;
+}
+
+// The slab of node `node`'s grid the ray is in at t, clamped to the node's cells (the first
+// for a t that gives no position): how far a ray that leaves the node through another axis's
+// wall, or stops, has got along the node's axis (for the recorder).
+int64_t Grid1D::slab_at(const Node& node, double t, const RayWalk& walk) const {
+  const StateInfo& info = states_[node.state];
+  const double p = walk.line.origin[node.axis] + t * walk.line.dir[node.axis];
+  const double cell = (p - info.origin) * info.scale - double(node.first_cell);
+  // max(0, NaN) is 0: both comparisons are false for NaN.
+  return node.first_cell + int64_t(std::max(0.0, std::min(cell, double(node.granularity - 1))));
 }
 
 // §5.2: into node `id`, which the ray occupies at t_cur, setting its traversal state, and
