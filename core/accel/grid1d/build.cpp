@@ -328,7 +328,7 @@ uint32_t Grid1D::settle(uint32_t id, Context& context) const {
   const bool split = ref != kNone;
   if (!split) {
     ref = make_leaf(id);
-  } else if (const uint32_t node = child_ref::payload(ref); passable_chain(node)) {
+  } else if (const uint32_t node = child_ref::payload(ref); is_chain(node)) {
     const uint32_t cell = voxels_[id].first_child + nodes_[node].sole_cell;
     voxels_[cell].status.store(kBuilding, std::memory_order_relaxed);
     ref = settle(cell, context);
@@ -615,10 +615,13 @@ uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
   const Region& region = regions_[id];
   const int axis = cut.axis;
   const uint32_t state = state_for(uint32_t(axis), region.grid[axis] * g);
+  static_assert(sizeof(Node) == 64, "a node is one cache line");
   Node& record = nodes_[node];
   record.first_cell = int64_t(region.cell[axis] * g);
   record.state = state;
-  for (int a = 0; a < 3; ++a) record.above[a] = walk_above(region.above[a], a);
+  for (int a = 0; a < 3; ++a)
+    record.above[a] = walk_above(region.above[a], a),
+    record.passed[a] = passed_chain(region.above[a]);
   record.children = uint32_t(refs);
   record.boxes = uint32_t(boxes);
   record.granularity = uint16_t(g);
@@ -647,28 +650,20 @@ uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
 }
 
 // The node a walk climbs to on axis a from below `node` (a voxel's nearest ancestor cut
-// along a, or kNone): `node` itself, or, when it is a chain voxel the walk passes by
-// (passable_chain), the node above it on a, and so on up. Stepping there instead leaves the
-// chain's empty cells without a look (docs/design.md §1.3).
+// along a, or kNone): `node` itself, or, when it is a chain voxel (all its triangles in one
+// cell, never walked in: settle), the node above it on a, and so on up. Stepping there
+// instead leaves the chain's empty cells without a look; the walk keeps the chain's own
+// nodes on the other axes until the ray gets there (held_by_chain, docs/design.md §1.3).
 uint32_t Grid1D::walk_above(uint32_t node, int a) const {
-  return node != kNone && passable_chain(node) ? nodes_[node].above[a] : node;
+  return node != kNone && is_chain(node) ? nodes_[node].above[a] : node;
 }
 
-// Whether the walk may pass chain node `node` (all its triangles in one cell) by: go from
-// the chain's top straight to its bottom (settle), and step, when the ray leaves the bottom
-// along the node's axis, in the node above it on that axis. After such a step the ray's
-// position on the other axes comes from that node's `above` entries, so they must be the
-// chain node's own: a node cut along another axis between the two (the chain sits in one of
-// its cells) would be skipped, and its other cells, which hold triangles, with it.
-bool Grid1D::passable_chain(uint32_t node) const {
-  const Node& chain = nodes_[node];
-  if (chain.sole_cell == Node::kManyCells) return false;
-  const uint32_t up = chain.above[chain.axis];
-  for (int c = 0; c < 3; ++c)
-    if (c != chain.axis && (up == kNone ? kNone : nodes_[up].above[c]) != chain.above[c])
-      return false;
-  return true;
+// The chain node walk_above(node, a) passes by, or kNone.
+uint32_t Grid1D::passed_chain(uint32_t node) const {
+  return node != kNone && is_chain(node) ? node : kNone;
 }
+
+bool Grid1D::is_chain(uint32_t node) const { return nodes_[node].sole_cell != Node::kManyCells; }
 
 // The one cell of a cut that holds triangles (Node::sole_cell), or Node::kManyCells; never
 // a cut that keeps spanning triangles at its node, which the walk must go down into.

@@ -154,6 +154,7 @@ class Grid1D final : public Accelerator {
                Context& context, Recorder& recorder) const;
   int64_t slab_at(const Node& node, double t, const RayWalk& walk) const;
   bool holds_start(uint32_t node, int64_t cell, const RayWalk& walk) const;
+  bool held_by_chain(uint32_t chain, uint32_t up, int axis, RayWalk& walk, Context& context) const;
   void activate(int axis, uint32_t node, uint32_t state, RayWalk& walk) const;
   template <class Recorder>
   int64_t descend(uint32_t node, double t_cur, int entered_axis, RayWalk& walk, Context& context,
@@ -206,7 +207,8 @@ class Grid1D final : public Accelerator {
   static uint16_t sole_cell(const Cut& cut);
   static uint64_t occupied_cells(const Cut& cut);
   uint32_t walk_above(uint32_t node, int axis) const;
-  bool passable_chain(uint32_t node) const;
+  uint32_t passed_chain(uint32_t node) const;
+  bool is_chain(uint32_t node) const;
   void link_children(uint32_t voxel, const Cut& cut, uint32_t first_child, uint32_t node) const;
   double estimated_rays(uint32_t voxel, size_t crossing_count) const;
   uint32_t state_for(uint32_t axis, uint64_t granularity) const;

@@ -30,13 +30,29 @@ struct Grid1D::Region {
 // What the walk reads of a subdivided voxel (§5): one cache line.
 struct alignas(64) Grid1D::Node {
   int64_t first_cell;  // J0: index of cell 0 on the state's global grid
-  uint32_t state;      // traversal state (axis, absolute granularity)
-  uint32_t above[3];   // nearest ancestor node cut along each axis, or kNone (the box)
-  uint32_t children;   // refs_ index of cell 0's reference
+  // Which cells hold triangles: bit i for cell i below 63, bit 63 for those from 63 on
+  // (set when any of them does). A walk passes a run of empty cells with one bit scan
+  // instead of a content box test per group of four, and a packet a group of four empty
+  // cells without its bounds test; no answer can change, an empty cell holds nothing to hit.
+  uint64_t occupied;
+  uint32_t state;     // traversal state (axis, absolute granularity)
+  uint32_t above[3];  // nearest ancestor node cut along each axis, or kNone (the box)
+  // Per axis, the chain node (sole_cell) that above[] passes by, or kNone: its own above
+  // entries on the other axes hold the ray's position while it crosses the chain's empty
+  // cells after leaving this node (Grid1D::held_by_chain).
+  uint32_t passed[3];
+  uint32_t children;  // refs_ index of cell 0's reference
   // child_boxes_ index of the cells' content boxes (in groups of four cells,
   // core/geometry/box_test.h's grouped layout): where each cell's triangles can be hit, so that the
   // walk tests all of them at once and steps only into cells whose contents the ray meets.
   uint32_t boxes;
+  // The voxel's triangles that span it along the cut axis (they would lie in every cell),
+  // kept here once instead of in each cell: a LeafStore handle, or kNoSpanning. The walk
+  // tests them as it goes down into the node, before it looks at the cells, so that the
+  // cells' content boxes leave them out (a ground plane across a stadium no longer makes
+  // every cell's box as large as the cell) and a hit on them stops the walk early. Never on
+  // a chain voxel (sole_cell): the walk passes those without going down into them.
+  uint32_t spanning;
   uint16_t granularity;
   // The one cell that holds triangles, or kManyCells. Its contents are all of the voxel's,
   // whose box the walk found the ray to meet when it chose the voxel (one level up, or
@@ -46,18 +62,6 @@ struct alignas(64) Grid1D::Node {
   // one cell, that every ray toward the cluster crosses.
   uint16_t sole_cell;
   uint8_t axis;
-  // The voxel's triangles that span it along the cut axis (they would lie in every cell),
-  // kept here once instead of in each cell: a LeafStore handle, or kNoSpanning. The walk
-  // tests them as it goes down into the node, before it looks at the cells, so that the
-  // cells' content boxes leave them out (a ground plane across a stadium no longer makes
-  // every cell's box as large as the cell) and a hit on them stops the walk early. Never on
-  // a chain voxel (sole_cell): the walk passes those without going down into them.
-  uint32_t spanning;
-  // Which cells hold triangles: bit i for cell i below 63, bit 63 for those from 63 on
-  // (set when any of them does). A walk passes a run of empty cells with one bit scan
-  // instead of a content box test per group of four, and a packet a group of four empty
-  // cells without its bounds test; no answer can change, an empty cell holds nothing to hit.
-  uint64_t occupied;
   static constexpr uint16_t kManyCells = UINT16_MAX;
   static constexpr uint32_t kNoSpanning = UINT32_MAX;
 

@@ -247,6 +247,35 @@ inline bool Grid1D::holds_start(uint32_t id, int64_t cell, const RayWalk& walk) 
   return _mm_movemask_ps(inside) >> box_lane(uint32_t(cell)) & 1;
 }
 
+// A climb on axis s that passed chain node `chain` by to `up` (kNone: the scene box): the
+// ray has left the chain's one cell holding triangles and crosses its empty cells up to the
+// wall of up's cell, inside the cells of the chain's own nodes above on the other axes (the
+// nearest that are no chains), whose other cells may hold triangles. When it reaches a wall
+// of theirs first, the walk must step there: `up` keeps axis s with its cell's wall, those
+// nodes the other axes, and the function returns true. False when up's wall comes first: the
+// ray leaves their cells with up's (or they lie above up), and the climb goes on as ever.
+bool Grid1D::held_by_chain(uint32_t chain, uint32_t up, int s, RayWalk& walk,
+                           Context& context) const {
+  const auto state_of = [&](uint32_t node, int axis) {
+    return node == kNone ? uint32_t(axis) : nodes_[node].state;
+  };
+  const double t_wall = context.states[state_of(up, s)].t_next;
+  const Node& passed = nodes_[chain];
+  const int b = kNextAxis[s], c = kNextAxis[s + 1];
+  const uint32_t b_state = state_of(passed.above[b], b), c_state = state_of(passed.above[c], c);
+  GRIDSCOPE_CHECK(context.states[b_state].stamp == walk.ray_id &&
+                  context.states[c_state].stamp == walk.ray_id);
+  if (!(std::min(context.states[b_state].t_next, context.states[c_state].t_next) < t_wall))
+    return false;
+  activate(s, up, state_of(up, s), walk);
+  activate(b, passed.above[b], b_state, walk);
+  activate(c, passed.above[c], c_state, walk);
+  walk.t_next[s] = t_wall;
+  walk.t_next[b] = context.states[b_state].t_next;
+  walk.t_next[c] = context.states[c_state].t_next;
+  return true;
+}
+
 // Leaves the cursor's cell through its nearest wall (§5.3): on that axis, the node the ray's
 // position comes from steps to its next cell whose contents the ray meets, climbing to the
 // node above when the array ends. False when the ray leaves the scene box, or the nearest
@@ -264,13 +293,18 @@ bool Grid1D::next_cell(Cursor& cursor, RayWalk& walk, Context& context, Recorder
     uint32_t id = walk.active[s];
     int64_t from = 0;
     cursor.climbed = 0;
-    for (;; id = nodes_[id].above[s], ++cursor.climbed) {
+    bool held = false;
+    for (;; ++cursor.climbed) {
       if (id == kNone) return false;  // left the scene
       const Node& up = nodes_[id];
       GRIDSCOPE_CHECK(context.states[up.state].stamp == walk.ray_id);
       from = context.states[up.state].index + walk.step[s] - up.first_cell;
       if (uint64_t(from) < up.granularity) break;
+      id = up.above[s];
+      if (up.passed[s] != kNone && (held = held_by_chain(up.passed[s], id, s, walk, context)))
+        break;
     }
+    if (held) continue;  // on to the wall the chain's nodes on the other axes put first
     // The step happens in node `id`: the other axes' positions come from the nodes above
     // it; usually they already are (the step happened in the deepest node).
     const Node& moved = nodes_[id];
