@@ -655,7 +655,7 @@ uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
 // instead leaves the chain's empty cells without a look; the walk keeps the chain's own
 // nodes on the other axes until the ray gets there (held_by_chain, docs/design.md §1.3).
 uint32_t Grid1D::walk_above(uint32_t node, int a) const {
-  return node != kNone && is_chain(node) ? nodes_[node].above[a] : node;
+  return passed_chain(node) != kNone ? nodes_[node].above[a] : node;
 }
 
 // The chain node walk_above(node, a) passes by, or kNone.

@@ -153,6 +153,7 @@ class Grid1D final : public Accelerator {
   int64_t seek(uint32_t node, int64_t from, bool from_is_current, Cursor& cursor, RayWalk& walk,
                Context& context, Recorder& recorder) const;
   int64_t slab_at(const Node& node, double t, const RayWalk& walk) const;
+  uint32_t state_of(uint32_t node, int axis) const;
   bool holds_start(uint32_t node, int64_t cell, const RayWalk& walk) const;
   bool held_by_chain(uint32_t chain, uint32_t up, int axis, RayWalk& walk, Context& context) const;
   void activate(int axis, uint32_t node, uint32_t state, RayWalk& walk) const;

@@ -247,6 +247,11 @@ inline bool Grid1D::holds_start(uint32_t id, int64_t cell, const RayWalk& walk) 
   return _mm_movemask_ps(inside) >> box_lane(uint32_t(cell)) & 1;
 }
 
+// The traversal state of `node` on `axis`; kNone, the scene box, has the box's state there.
+inline uint32_t Grid1D::state_of(uint32_t node, int axis) const {
+  return node == kNone ? uint32_t(axis) : nodes_[node].state;
+}
+
 // A climb on axis s that passed chain node `chain` by to `up` (kNone: the scene box): the
 // ray has left the chain's one cell holding triangles and crosses its empty cells up to the
 // wall of up's cell, inside the cells of the chain's own nodes above on the other axes (the
@@ -256,9 +261,6 @@ inline bool Grid1D::holds_start(uint32_t id, int64_t cell, const RayWalk& walk) 
 // ray leaves their cells with up's (or they lie above up), and the climb goes on as ever.
 bool Grid1D::held_by_chain(uint32_t chain, uint32_t up, int s, RayWalk& walk,
                            Context& context) const {
-  const auto state_of = [&](uint32_t node, int axis) {
-    return node == kNone ? uint32_t(axis) : nodes_[node].state;
-  };
   const double t_wall = context.states[state_of(up, s)].t_next;
   const Node& passed = nodes_[chain];
   const int b = kNextAxis[s], c = kNextAxis[s + 1];
@@ -312,7 +314,7 @@ bool Grid1D::next_cell(Cursor& cursor, RayWalk& walk, Context& context, Recorder
     for (int c = 0; c < 3; ++c) {
       if (c == s || walk.active[c] == moved.above[c]) continue;
       const uint32_t above = moved.above[c];
-      activate(c, above, above == kNone ? uint32_t(c) : nodes_[above].state, walk);
+      activate(c, above, state_of(above, c), walk);
       walk.t_next[c] = context.states[walk.active_state[c]].t_next;
     }
     cursor.t = t_exit, cursor.entered = s;
@@ -437,7 +439,9 @@ template <class Recorder>
 
 // The slab of node `node`'s grid the ray is in at t, clamped to the node's cells (the first
 // for a t that gives no position): how far a ray that leaves the node through another axis's
-// wall, or stops, has got along the node's axis (for the recorder).
+// wall, or stops, has got along the node's axis (for the recorder). descend locates a point
+// the same way; one shared helper cost the timed walk 0.8% more instructions per ray (pyramid
+// 1,650 -> 1,664, bunny-sibenik 6,009 -> 6,072), so the formula stays in both.
 int64_t Grid1D::slab_at(const Node& node, double t, const RayWalk& walk) const {
   const StateInfo& info = states_[node.state];
   const double p = walk.line.origin[node.axis] + t * walk.line.dir[node.axis];
