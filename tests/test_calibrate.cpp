@@ -242,8 +242,6 @@ TEST(Calibrate, ShortRealRunMeasuresEveryConstant) {
   // drown in the noise (twice in CI). Then every constant keeps its default and says why.
   if (calibration.nanoseconds_per_unit == 0.0)
     EXPECT_EQ(calibration.detail.at("unidentified").size(), 5u);
-  else
-    EXPECT_GT(calibration.nanoseconds_per_unit, 0.0);
   // Each synthetic scene made the work it was built for, as the traversal counted it.
   for (const json& design : calibration.detail.at("designs"))
     EXPECT_TRUE(design.at("as_designed").get<bool>()) << design.dump();
