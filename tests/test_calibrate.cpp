@@ -240,8 +240,9 @@ TEST(Calibrate, ShortRealRunMeasuresEveryConstant) {
   EXPECT_EQ(calibration.intcost, 1.0);
   // The unit is a timing fit: under the sanitizers, beside other tests, a 0.2 ns box test can
   // drown in the noise (twice in CI). Then every constant keeps its default and says why.
-  if (calibration.nanoseconds_per_unit == 0.0)
+  if (calibration.nanoseconds_per_unit == 0.0) {
     EXPECT_EQ(calibration.detail.at("unidentified").size(), 5u);
+  }
   // Each synthetic scene made the work it was built for, as the traversal counted it.
   for (const json& design : calibration.detail.at("designs"))
     EXPECT_TRUE(design.at("as_designed").get<bool>()) << design.dump();
