@@ -281,9 +281,11 @@ bool Grid1D::held_by_chain(uint32_t chain, uint32_t up, int s, RayWalk& walk,
 // Leaves the cursor's cell through its nearest wall (§5.3): on that axis, the node the ray's
 // position comes from steps to its next cell whose contents the ray meets, climbing to the
 // node above when the array ends. False when the ray leaves the scene box, or the nearest
-// hit lies before the wall.
+// hit lies before the wall. Inlined into trace, its one caller: a call cost each step some
+// 18 instructions of register saves (bunny-sibenik: 5.5% of a ray's instructions).
 template <class Recorder>
-bool Grid1D::next_cell(Cursor& cursor, RayWalk& walk, Context& context, Recorder& recorder) const {
+[[gnu::always_inline]] inline bool Grid1D::next_cell(Cursor& cursor, RayWalk& walk,
+                                                     Context& context, Recorder& recorder) const {
   for (;;) {
     // Written as selects, not branches: which axis comes next is unpredictable.
     const bool y_first = walk.t_next[1] < walk.t_next[0];
