@@ -261,7 +261,8 @@ inline uint32_t Grid1D::state_of(uint32_t node, int axis) const {
 // ray leaves their cells with up's (or they lie above up), and the climb goes on as ever.
 bool Grid1D::held_by_chain(uint32_t chain, uint32_t up, int s, RayWalk& walk,
                            Context& context) const {
-  const double t_wall = context.states[state_of(up, s)].t_next;
+  const uint32_t up_state = state_of(up, s);
+  const double t_wall = context.states[up_state].t_next;
   const Node& passed = nodes_[chain];
   const int b = kNextAxis[s], c = kNextAxis[s + 1];
   const uint32_t b_state = state_of(passed.above[b], b), c_state = state_of(passed.above[c], c);
@@ -269,7 +270,7 @@ bool Grid1D::held_by_chain(uint32_t chain, uint32_t up, int s, RayWalk& walk,
                   context.states[c_state].stamp == walk.ray_id);
   if (!(std::min(context.states[b_state].t_next, context.states[c_state].t_next) < t_wall))
     return false;
-  activate(s, up, state_of(up, s), walk);
+  activate(s, up, up_state, walk);
   activate(b, passed.above[b], b_state, walk);
   activate(c, passed.above[c], c_state, walk);
   walk.t_next[s] = t_wall;
