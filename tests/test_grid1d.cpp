@@ -10,6 +10,7 @@
 #include <span>
 
 #include "core/accel/grid1d/grid1d.h"
+#include "core/accel/grid1d/packet_lanes.h"
 #include "core/accel/walk.h"
 #include "core/scene/camera.h"
 #include "core/scene/lighting.h"
@@ -636,6 +637,56 @@ TEST(Grid1DPackets, CoherentTilesWalkTogetherAndMatchBrute) {
   EXPECT_GT(counters.packet_steps, 0u);
   // More than one ray per step on average: the rays really went together.
   EXPECT_GT(counters.packet_step_rays, 2 * counters.packet_steps);
+}
+
+// A few rays of a packet spread over its lane groups search a dense leaf one at a time
+// (searches_alone): a soup of 64 small triangles in [0, 1]^3 and a wall at x = 9..10 make a
+// root cut along x into leaves; of 64 rays along +z, rays 0, 8, ..., 56 (one per group of 8,
+// and of 4; two per group of 16) cross the soup and the others the wall, so the packet's
+// bounds leave every soup box to test. On every instruction set this CPU has, each ray's
+// nearest and any-hit answers are brute force's.
+TEST(Grid1DPackets, ScatteredRaysSearchADenseLeafAloneAndMatchBrute) {
+  Scene scene = test::make_soup(11, 64, glm::vec3(0.0f), glm::vec3(1.0f), 0.3f);
+  const auto wall = uint32_t(scene.vertices.size());
+  scene.vertices.insert(scene.vertices.end(),
+                        {{8.5f, -0.5f, 0.5f}, {11.0f, -0.5f, 0.5f}, {9.5f, 2.0f, 0.5f}});
+  scene.triangles.push_back({wall, wall + 1, wall + 2});
+  std::vector<Ray> rays(64);
+  uint64_t soup_rays = 0;
+  for (uint32_t i = 0; i < 64; ++i) {
+    const bool soup = i % 8 == 0;
+    soup_rays |= uint64_t(soup) << i;
+    const float x = soup ? 0.05f + 0.9f * float(i / 8) / 7.0f : 9.3f + 0.005f * float(i % 8);
+    rays[i].origin = {x, 0.1f + 0.8f * float(i % 8) / 7.0f + 0.01f * float(i / 8), -1.0f};
+    rays[i].dir = {0.0f, 0.0f, 1.0f};
+  }
+  const std::vector<Hit> expected = brute_answers_hitting(scene, rays, 60);
+  // Every soup box left by the bounds: alone at every lane width.
+  for (const uint32_t width : {4u, 8u, 16u})
+    EXPECT_TRUE(searches_alone(soup_rays, ~uint64_t{0}, 64, width)) << width;
+  // The wall's leaf, searched by the 56 other rays filling their groups: together.
+  EXPECT_FALSE(searches_alone(~soup_rays, 1, 1, 8));
+  const Isa before = kernel_isa();
+  for (const Isa isa : {Isa::scalar, Isa::avx2, Isa::avx512}) {
+    if (!isa_supported(isa)) continue;
+    force_kernel_isa(isa);
+    AccelParams params;
+    params.max_depth = 1;
+    Grid1D grid(params);
+    grid.build(scene);
+    grid.build_all();
+    ASSERT_EQ(grid.voxel(0).status.load(), Grid1D::kSplit);
+    ASSERT_EQ(grid.voxel(0).axis, 0);
+    const auto context = grid.make_context();
+    std::vector<Hit> hits(64), any(64);
+    const std::vector<uint64_t> keys(64);
+    grid.trace_packet(rays, keys, hits, false, *context);
+    grid.trace_packet(rays, keys, any, true, *context);
+    EXPECT_EQ(test::count_mismatches("packets of 64", hits, expected), 0u) << isa_name(isa);
+    EXPECT_EQ(test::count_any_hit_mismatches(rays, any, expected), 0u) << isa_name(isa);
+    EXPECT_EQ(context->counters.packet_fallback_rays, 0u);
+  }
+  force_kernel_isa(before);
 }
 
 // A recorded walk counts the walls it crosses along the nodes' axes, cells it looks at and

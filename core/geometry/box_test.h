@@ -89,6 +89,7 @@ struct RayBoxes {
   // grid tests a group per node it enters, and the products cost as much as the loads.
   uint32_t near_in_group[3], far_in_group[3];  // in bytes
 
+  RayBoxes() = default;
   explicit RayBoxes(const Ray& ray, bool cull = true) {
     for (uint32_t a = 0; a < 3; ++a) {
       origin[a] = _mm_set1_ps(cull ? ray.origin[a] : 0.0f);
@@ -209,6 +210,18 @@ struct RayBoxLanes {
   }
   // A new end for ray `lane`'s segment (its nearest hit moved in).
   void set_end(uint32_t lane, __m128 t_hi) { t1[lane] = _mm_cvtss_f32(t_hi); }
+  // Ray `lane` as a single ray's box tests take it (RayBoxes, its segment [t0, t1]): the
+  // same figures, so the same bits.
+  RayBoxes single(uint32_t lane) const {
+    RayBoxes ray;
+    for (int a = 0; a < 3; ++a) {
+      ray.origin[a] = _mm_set1_ps(origin[a][lane]), ray.inv_dir[a] = _mm_set1_ps(inv_dir[a][lane]);
+      ray.near_array[a] = near_array[a], ray.far_array[a] = far_array[a];
+      ray.near_in_group[a] = 4 * near_array[a] * sizeof(float);
+      ray.far_in_group[a] = 4 * far_array[a] * sizeof(float);
+    }
+    return ray;
+  }
   // Of the rays in `rays` (bits), those that cross box `box` of `boxes`: four at a time,
   // only the fours that hold one of them.
   uint64_t crossed(const float* boxes, uint32_t stride, uint32_t box, uint64_t rays) const {

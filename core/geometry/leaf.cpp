@@ -154,6 +154,7 @@ Kernel kernel_for(Isa isa) {
   switch (isa) {
     case Isa::avx2:
       return {4,
+              8,
               test_lanes_avx2,
               test_rays_avx2,
               rays_crossed_avx2,
@@ -161,6 +162,7 @@ Kernel kernel_for(Isa isa) {
               bounds_crossed_avx2};
     case Isa::avx512:
       return {8,
+              16,
               test_lanes_avx512,
               test_rays_avx512,
               rays_crossed_avx512,
@@ -170,6 +172,7 @@ Kernel kernel_for(Isa isa) {
       break;
   }
   return {1,
+          4,
           test_lanes_scalar,
           test_rays_scalar,
           rays_crossed_sse,

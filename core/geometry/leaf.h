@@ -166,7 +166,8 @@ using BoundsCrossed = uint64_t (*)(const RayBoxLanes& lanes, const float* boxes,
                                    uint32_t first, uint32_t count);
 
 struct Kernel {
-  uint32_t lanes = 1;
+  uint32_t lanes = 1;      // doubles: the triangle tests' width
+  uint32_t box_lanes = 4;  // floats: the box tests' width
   LaneTest test = nullptr;
   RayTest test_rays = nullptr;
   RaysCrossed rays_crossed = nullptr;
@@ -223,54 +224,71 @@ struct BoxFilter {
   }
 };
 
+// Tests triangles block + k of the leaf (bit k of `crossed`, a 64-triangle block's boxes
+// the ray crosses) that this ray has not tested yet (`mailbox`), keeping `best` the nearest
+// hit (lowest id among equal t; docs/design.md §6.4) and `tmax` its t. Returns true when one
+// of them became the nearest hit (AnyHit: when one blocks the ray, which ends the search).
+// Triangles go to the kernel in its groups of kernel.lanes, in order; a group none of whose
+// boxes the ray crosses is passed over.
+template <bool AnyHit, class Mailboxes, class Record>
+inline bool test_crossed(const LeafView& leaf, const Kernel& kernel,
+                         const PreparedRay<KernelReal>& ray, uint32_t block, uint64_t crossed,
+                         uint64_t ray_id, float& tmax, Hit& best, Mailboxes& mailbox,
+                         TraceCounters& counters, Record& record) {
+  const uint32_t group = (1u << kernel.lanes) - 1u;
+  bool found = false;
+  while (crossed != 0) {
+    const uint32_t offset = uint32_t(std::countr_zero(crossed)) & ~(kernel.lanes - 1u);
+    const uint32_t first = block + offset;
+    uint32_t lanes = 0, tested = 0;
+    for (uint32_t left = uint32_t(crossed >> offset) & group; left != 0; left &= left - 1) {
+      const auto j = uint32_t(std::countr_zero(left));
+      const uint32_t id = leaf.ids[first + j];
+      if (!(id & kOnlyHere) && mailbox.already_tested(id, ray_id)) {
+        ++counters.mailbox_rejections;
+        record.rejected();
+      } else {
+        lanes |= 1u << j;
+        ++tested;
+      }
+    }
+    crossed &= ~(uint64_t{group} << offset);
+    if (lanes == 0) continue;
+    counters.intersection_tests += tested;
+    record.tested(tested);
+    LaneHits out;
+    for (uint32_t hits = kernel.test(leaf, first, lanes, ray, tmax, out); hits != 0;
+         hits &= hits - 1) {
+      const uint32_t j = uint32_t(std::countr_zero(hits));
+      const auto id = int32_t(leaf.id(first + j));
+      if (closer(out.t[j], id, best)) {
+        best = {id, out.t[j], out.u[j], out.v[j]};
+        tmax = out.t[j];
+        found = true;
+        if (AnyHit) return true;
+      }
+    }
+  }
+  return found;
+}
+
 // Tests the leaf's triangles this ray has not tested yet and whose boxes it crosses
-// (`filter`), keeping `best` the nearest hit (lowest id among equal t; docs/design.md §6.4)
-// and `tmax` its t. Returns true when one of them became the nearest hit (AnyHit: when one
-// blocks the ray, which ends the search). Triangles go to the kernel in its groups of
-// kernel.lanes, in order; a group none of whose boxes the ray crosses is passed over.
+// (`filter`), as test_crossed does, a block of 64 at a time: most boxes are missed, so only
+// the triangles whose box the ray crosses are looked at.
 template <bool AnyHit, class Record = NoLeafRecord>
 inline bool test_leaf(const LeafView& leaf, const Kernel& kernel,
                       const PreparedRay<KernelReal>& ray, const BoxFilter& filter, uint64_t ray_id,
                       float& tmax, Hit& best, Mailbox& mailbox, TraceCounters& counters,
                       Record&& record = {}) {
   GRIDSCOPE_CHECK(kernel.lanes <= kMaxLanes && 64 % kernel.lanes == 0);
-  const uint32_t group = (1u << kernel.lanes) - 1u;
   counters.leaf_triangles += leaf.count;
   bool found = false;
   for (uint32_t block = 0; block < leaf.count; block += 64) {
-    // Most boxes are missed: only the triangles whose box the ray crosses are looked at.
-    for (uint64_t crossed = filter.crossed(kernel, leaf, block, std::min(64u, leaf.count - block));
-         crossed != 0;) {
-      const uint32_t offset = uint32_t(std::countr_zero(crossed)) & ~(kernel.lanes - 1u);
-      const uint32_t first = block + offset;
-      uint32_t lanes = 0, tested = 0;
-      for (uint32_t left = uint32_t(crossed >> offset) & group; left != 0; left &= left - 1) {
-        const auto j = uint32_t(std::countr_zero(left));
-        const uint32_t id = leaf.ids[first + j];
-        if (!(id & kOnlyHere) && mailbox.already_tested(id, ray_id)) {
-          ++counters.mailbox_rejections;
-          record.rejected();
-        } else {
-          lanes |= 1u << j;
-          ++tested;
-        }
-      }
-      crossed &= ~(uint64_t{group} << offset);
-      if (lanes == 0) continue;
-      counters.intersection_tests += tested;
-      record.tested(tested);
-      LaneHits out;
-      for (uint32_t hits = kernel.test(leaf, first, lanes, ray, tmax, out); hits != 0;
-           hits &= hits - 1) {
-        const uint32_t j = uint32_t(std::countr_zero(hits));
-        const auto id = int32_t(leaf.id(first + j));
-        if (closer(out.t[j], id, best)) {
-          best = {id, out.t[j], out.u[j], out.v[j]};
-          tmax = out.t[j];
-          found = true;
-          if (AnyHit) return true;
-        }
-      }
+    const uint64_t crossed = filter.crossed(kernel, leaf, block, std::min(64u, leaf.count - block));
+    if (test_crossed<AnyHit>(leaf, kernel, ray, block, crossed, ray_id, tmax, best, mailbox,
+                             counters, record)) {
+      found = true;
+      if (AnyHit) return true;
     }
   }
   return found;

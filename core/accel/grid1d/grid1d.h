@@ -177,6 +177,9 @@ class Grid1D final : public Accelerator {
   template <bool AnyHit>
   void search_leaf(const LeafView& leaf, uint64_t rays, PacketWalk& walk) const;
   template <bool AnyHit>
+  void search_alone(const LeafView& leaf, uint32_t base, uint32_t run, uint64_t may_cross,
+                    uint64_t& searching, uint64_t& improved, PacketWalk& walk) const;
+  template <bool AnyHit>
   void test_crossers(const LeafView& leaf, uint32_t i, uint64_t crossers, uint64_t& searching,
                      uint64_t& improved, PacketWalk& walk) const;
 

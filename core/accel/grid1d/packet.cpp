@@ -4,7 +4,9 @@
 // rays of a packet share their direction's signs, so this is every ray's own order of
 // cells), four at a time: the packet's bounds rule out the groups no ray can meet, and in
 // the others each ray not done is box-tested against each cell's content box, several rays
-// at a time; those that meet it go in. Leaves are searched ray by ray by the one leaf loop.
+// at a time; those that meet it go in. In a leaf the rays test the triangles whose boxes
+// they cross, rays in lanes, or one at a time as a single ray does when few rays are spread
+// over the packet's lane groups (a dense mesh reached by part of the tile).
 //
 // Exact per ray: the point of a ray's nearest hit lies in one leaf's cell and in every cell
 // above it, and each of their content boxes holds it (docs/design.md §6.7), so the ray
@@ -196,7 +198,8 @@ void Grid1D::visit_node(uint32_t id, uint64_t rays, PacketWalk& walk) const {
 // tests of a run of triangles are made together, with the segments the rays had on entering
 // the leaf (those change only after the search): first the packet's bounds against several
 // boxes at a time, which rules out the boxes no ray can cross, then each group of rays,
-// loaded once, against the boxes left.
+// loaded once, against the boxes left; or, when that costs more (searches_alone), each ray
+// against the run's boxes, several at a time, as the single walk tests them.
 template <bool AnyHit>
 void Grid1D::search_leaf(const LeafView& leaf, uint64_t rays, PacketWalk& walk) const {
   Context& context = walk.context;
@@ -213,6 +216,10 @@ void Grid1D::search_leaf(const LeafView& leaf, uint64_t rays, PacketWalk& walk) 
       const uint32_t stride = box_stride(leaf.count);
       // The bounds test first: it rules out whole boxes.
       const uint64_t may_cross = kernel_.bounds_crossed(box_lanes, leaf.boxes, stride, base, run);
+      if (searches_alone(searching, may_cross, run, kernel_.box_lanes)) {
+        search_alone<AnyHit>(leaf, base, run, may_cross, searching, improved, walk);
+        continue;
+      }
       crossed =
           kernel_.rays_crossed(box_lanes, leaf.boxes, stride, base, may_cross, searching, crossing);
     } else {
@@ -229,6 +236,41 @@ void Grid1D::search_leaf(const LeafView& leaf, uint64_t rays, PacketWalk& walk) 
   for_each_ray(improved, [&](uint32_t r) {
     lines.stop[r] = walk_stop(lanes.tmax[r], lines.slack[r], lines.shift[r]);
     box_lanes.set_end(r, box_test_end(false, lines.shift[r], lines.stop[r]));
+  });
+}
+
+// One ray of a packet as the single-ray leaf search sees the packet's mailbox.
+struct PacketRayMailbox {
+  PacketMailbox& mailbox;
+  uint64_t packet, ray;
+  bool already_tested(uint32_t triangle, uint64_t /*ray_id*/) {
+    return mailbox.mark(triangle, packet, ray) != 0;
+  }
+};
+
+// The rays of `searching`, one at a time, search boxes base .. base + run - 1 of the leaf
+// (those of `may_cross`) as the single walk does: the same box test and triangle test lane
+// by lane, so each ray's answer is the one it has in the packet's search (bit for bit).
+template <bool AnyHit>
+void Grid1D::search_alone(const LeafView& leaf, uint32_t base, uint32_t run, uint64_t may_cross,
+                          uint64_t& searching, uint64_t& improved, PacketWalk& walk) const {
+  Context& context = walk.context;
+  const RayBoxLanes& box_lanes = context.ray_box_lanes;
+  RayLanes& lanes = context.ray_lanes;
+  const uint32_t stride = box_stride(leaf.count);
+  NoLeafRecord record;
+  for_each_ray(searching, [&](uint32_t r) {
+    const uint64_t bit = uint64_t{1} << r;
+    const uint64_t crossed =
+        may_cross & kernel_.boxes_crossed(box_lanes.single(r), leaf.boxes, stride, base, run,
+                                          _mm_set1_ps(box_lanes.t0[r]),
+                                          _mm_set1_ps(box_lanes.t1[r]));
+    PacketRayMailbox mailbox{context.packet_mailbox, walk.id, bit};
+    if (!test_crossed<AnyHit>(leaf, kernel_, lanes.prepared(r), base, crossed, 0, lanes.tmax[r],
+                              walk.best[r], mailbox, context.counters, record))
+      return;
+    improved |= bit;
+    if (AnyHit) walk.done |= bit, searching &= ~bit;
   });
 }
 

@@ -5,6 +5,7 @@
 // (packet_lanes_impl.h) compiled per instruction set, picked with the leaf kernel's
 // instruction set (core/geometry/leaf.h).
 #pragma once
+#include <bit>
 #include <cstdint>
 
 #include "core/geometry/box_test.h"
@@ -53,6 +54,26 @@ using StartRays = uint64_t (*)(const ClipBox& box, uint32_t count, PacketLines& 
 // distances from their tmax.
 using PrepareRays = void (*)(PacketLines& lines, uint64_t rays, const int axes[3],
                              RayLanes& kernel_lanes, RayBoxLanes& box_lanes);
+
+// Whether the rays of `rays` search a run of `run` boxes of a leaf, of which the packet's
+// bounds leave `boxes`, faster one at a time than together, with box tests `width` floats
+// wide (Kernel::box_lanes). Together, each box takes a wide test per lane group holding
+// one of the rays, and each triangle a ray crosses is tested with the rays in lanes; alone,
+// a ray takes a wide test per `width` boxes of the run (the single walk's leaf filter) and
+// tests its triangles in lanes. A few rays spread over the packet's groups in a leaf of
+// many small triangles (a dense mesh reached by part of a tile, shadow rays that diverge)
+// go faster alone.
+inline bool searches_alone(uint64_t rays, uint64_t boxes, uint32_t run, uint32_t width) {
+  const uint64_t group = (uint64_t{2} << (width - 1)) - 1;
+  uint32_t groups = 0;
+  for (uint64_t left = rays; left != 0; ++groups)
+    left &= ~(group << (uint32_t(std::countr_zero(left)) & ~(width - 1)));
+  // A ray alone also sets itself up (its box lanes, kernel figures, a kernel call of its
+  // own): about three wide tests' worth, as measured on the bench scenes.
+  constexpr uint32_t kSetUp = 3;
+  return uint32_t(std::popcount(rays)) * ((run + width - 1) / width + kSetUp) <
+         groups * uint32_t(std::popcount(boxes));
+}
 
 struct PacketLaneOps {
   TurnedAway turned_away;
