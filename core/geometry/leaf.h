@@ -231,10 +231,11 @@ struct BoxFilter {
 // Triangles go to the kernel in its groups of kernel.lanes, in order; a group none of whose
 // boxes the ray crosses is passed over.
 template <bool AnyHit, class Mailboxes, class Record>
-inline bool test_crossed(const LeafView& leaf, const Kernel& kernel,
-                         const PreparedRay<KernelReal>& ray, uint32_t block, uint64_t crossed,
-                         uint64_t ray_id, float& tmax, Hit& best, Mailboxes& mailbox,
-                         TraceCounters& counters, Record& record) {
+[[gnu::always_inline]] inline bool test_crossed(const LeafView& leaf, const Kernel& kernel,
+                                                const PreparedRay<KernelReal>& ray, uint32_t block,
+                                                uint64_t crossed, uint64_t ray_id, float& tmax,
+                                                Hit& best, Mailboxes& mailbox,
+                                                TraceCounters& counters, Record& record) {
   const uint32_t group = (1u << kernel.lanes) - 1u;
   bool found = false;
   while (crossed != 0) {
