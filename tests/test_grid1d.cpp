@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <limits>
+#include <memory>
 #include <random>
 #include <set>
 #include <span>
@@ -67,6 +68,16 @@ std::vector<Hit> brute_answers_hitting(const Scene& scene, const std::vector<Ray
   for (const Hit& hit : expected) found += hit.found();
   EXPECT_GT(found, hits);
   return expected;
+}
+
+// `scene` built whole with `params`, by a grid whose root must come out cut along x.
+std::unique_ptr<Grid1D> built_cut_along_x(const Scene& scene, const AccelParams& params) {
+  auto grid = std::make_unique<Grid1D>(params);
+  grid->build(scene);
+  grid->build_all();
+  EXPECT_EQ(grid->voxel(0).status.load(), Grid1D::kSplit);
+  EXPECT_EQ(grid->voxel(0).axis, 0);
+  return grid;
 }
 
 // Builds `lazy` and `eager` (build_all) on `scene` and expects brute's answers `expected` to
@@ -672,16 +683,12 @@ TEST(Grid1DPackets, ScatteredRaysSearchADenseLeafAloneAndMatchBrute) {
     force_kernel_isa(isa);
     AccelParams params;
     params.max_depth = 1;
-    Grid1D grid(params);
-    grid.build(scene);
-    grid.build_all();
-    ASSERT_EQ(grid.voxel(0).status.load(), Grid1D::kSplit);
-    ASSERT_EQ(grid.voxel(0).axis, 0);
-    const auto context = grid.make_context();
+    const std::unique_ptr<Grid1D> grid = built_cut_along_x(scene, params);
+    const auto context = grid->make_context();
     std::vector<Hit> hits(64), any(64);
     const std::vector<uint64_t> keys(64);
-    grid.trace_packet(rays, keys, hits, false, *context);
-    grid.trace_packet(rays, keys, any, true, *context);
+    grid->trace_packet(rays, keys, hits, false, *context);
+    grid->trace_packet(rays, keys, any, true, *context);
     EXPECT_EQ(test::count_mismatches("packets of 64", hits, expected), 0u) << isa_name(isa);
     EXPECT_EQ(test::count_any_hit_mismatches(rays, any, expected), 0u) << isa_name(isa);
     EXPECT_EQ(context->counters.packet_fallback_rays, 0u);
@@ -711,18 +718,14 @@ TEST(Grid1DWalk, CountsTheCellsARayCrosses) {
   params.repcost = params.travcost = params.vertcost = params.subcost = 0.0;
   params.max_granularity = params.max_root_granularity = 8;
   params.max_depth = 1;
-  Grid1D grid(params);
-  grid.build(scene);
-  grid.build_all();
-  ASSERT_EQ(grid.voxel(0).status.load(), Grid1D::kSplit);
-  ASSERT_EQ(grid.voxel(0).axis, 0);
-  ASSERT_EQ(grid.voxel(0).granularity, 8u);
+  const std::unique_ptr<Grid1D> grid = built_cut_along_x(scene, params);
+  ASSERT_EQ(grid->voxel(0).granularity, 8u);
 
   const auto crossed = [&](glm::vec3 origin, glm::vec3 dir, float tmax) {
     Ray ray;
     ray.origin = origin, ray.dir = dir, ray.tmax = tmax;
-    const auto context = grid.make_context();
-    const std::optional<Walk> walk = grid.record_walk(ray, *context);
+    const auto context = grid->make_context();
+    const std::optional<Walk> walk = grid->record_walk(ray, *context);
     EXPECT_TRUE(walk && !walk->hit.found());
     return walk ? walk->cells_crossed : ~uint64_t{0};
   };
