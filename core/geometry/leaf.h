@@ -229,7 +229,10 @@ struct BoxFilter {
 // hit (lowest id among equal t; docs/design.md §6.4) and `tmax` its t. Returns true when one
 // of them became the nearest hit (AnyHit: when one blocks the ray, which ends the search).
 // Triangles go to the kernel in its groups of kernel.lanes, in order; a group none of whose
-// boxes the ray crosses is passed over.
+// boxes the ray crosses is passed over. `mailbox` is the ray's (Mailbox) or, for a packet's
+// ray searching alone, the packet's seen through the ray's bit. Forced inline: with GCC's
+// own inlining the single walk took 0.3-0.5% more instructions a ray (pyramid 1,573 against
+// 1,563, cathedral 5,694 against 5,665).
 template <bool AnyHit, class Mailboxes, class Record>
 [[gnu::always_inline]] inline bool test_crossed(const LeafView& leaf, const Kernel& kernel,
                                                 const PreparedRay<KernelReal>& ray, uint32_t block,
