@@ -211,7 +211,9 @@ struct RayBoxLanes {
   // A new end for ray `lane`'s segment (its nearest hit moved in).
   void set_end(uint32_t lane, __m128 t_hi) { t1[lane] = _mm_cvtss_f32(t_hi); }
   // Ray `lane` as a single ray's box tests take it (its segment is t0[lane] .. t1[lane]):
-  // the same figures, so the same bits.
+  // the same figures, so the same bits. The face offsets are set as RayBoxes' constructor
+  // sets them, on purpose not through a shared setter: that cost the single walk 0.8% more
+  // instructions a ray (pyramid 1,563 -> 1,576).
   RayBoxes single(uint32_t lane) const {
     RayBoxes ray;
     for (int a = 0; a < 3; ++a) {
