@@ -737,6 +737,50 @@ TEST(Grid1DWalk, CountsTheCellsARayCrosses) {
   EXPECT_EQ(crossed({3.5f, -1.0f, 0.5f}, {0.0f, 1.0f, 0.01f}, inf), 0u);
 }
 
+// A node whose cells' content boxes all lie off the ray, though the ray meets its own cell's
+// box, is passed by with a test of its summary, without going down into it (Node::boxes): the
+// root cut along x into four cells; cell 1 holds one small triangle near each end of its
+// y extent and is cut along y, so its content box spans the gap between them. A ray up z
+// through the gap goes down into the root alone; one through a triangle goes down into both
+// and hits it, as brute force does.
+TEST(Grid1DWalk, PassesByANodeWhoseSummaryTheRayMisses) {
+  Scene scene;
+  const auto add = [&scene](glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+    const auto first = uint32_t(scene.vertices.size());
+    scene.vertices.insert(scene.vertices.end(), {a, b, c});
+    scene.triangles.push_back({first, first + 1, first + 2});
+  };
+  add({1.4f, 0.4f, 0.5f}, {1.6f, 0.4f, 0.5f}, {1.5f, 0.6f, 0.5f});  // cell 1, near y = 0.4
+  add({1.4f, 3.4f, 0.5f}, {1.6f, 3.4f, 0.5f}, {1.5f, 3.6f, 0.5f});  // cell 1, near y = 3.6
+  add({0.4f, 2.0f, 0.0f}, {0.6f, 2.0f, 1.0f}, {0.5f, 2.1f, 0.5f});  // cell 0
+  add({3.4f, 2.0f, 0.0f}, {3.6f, 2.0f, 1.0f}, {3.5f, 2.1f, 0.5f});  // cell 3
+  AccelParams params;
+  params.repcost = params.travcost = params.vertcost = params.subcost = 0.0;
+  params.max_granularity = params.max_root_granularity = 4;
+  params.max_depth = 2;
+  const std::unique_ptr<Grid1D> grid = built_cut_along_x(scene, params);
+  ASSERT_EQ(grid->voxel(0).granularity, 4u);
+  const Grid1D::Voxel& cell = grid->voxel(grid->voxel(0).first_child + 1);
+  ASSERT_EQ(cell.status.load(), Grid1D::kSplit);
+  ASSERT_EQ(cell.axis, 1);
+
+  const auto trace = [&](float x, float y) {
+    Ray ray;
+    ray.origin = {x, y, -1.0f}, ray.dir = {0.0f, 0.0f, 1.0f};
+    const auto context = grid->make_context();
+    const Hit hit = grid->intersect(ray, *context);
+    EXPECT_EQ(hit, test::brute_answers(scene, {ray})[0]) << x << " " << y;
+    return std::pair{hit, context->counters.descents};
+  };
+  const auto [gap, gap_descents] = trace(1.5f, 1.7f);
+  EXPECT_FALSE(gap.found());
+  EXPECT_EQ(gap_descents, 1u);
+  const auto [near, near_descents] = trace(1.5f, 0.5f);
+  EXPECT_EQ(near.id, 0);
+  EXPECT_EQ(near.t, 1.5f);
+  EXPECT_EQ(near_descents, 2u);
+}
+
 // The calibration's unit is a searched leaf's triangle (TraceCounters::leaf_triangles): with
 // the root kept one leaf of 20 triangles, each of 64 rays crossing the scene box searches it
 // once, alone or in a packet: 20 leaf triangles a ray, of which only those whose box the ray

@@ -581,7 +581,7 @@ uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
   const uint64_t bytes =
       g * (sizeof(Voxel) + sizeof(Region)) + sizeof(Node) +
       sizeof(uint32_t) * (1 + g + cut.tris.size() + cut.samples.size()) +
-      sizeof(float) * grouped_box_floats(g) +
+      sizeof(float) * (Node::kSummaryFloats + grouped_box_floats(g)) +
       (cut.spanning.empty() ? 0 : LeafStore::bytes_for(uint32_t(cut.spanning.size())));
   if (voxels_.size() + g >= size_t(child_ref::kMaxPayload) || !reserve_bytes(bytes)) {
     ++over_budget_;
@@ -600,7 +600,8 @@ uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
   const size_t first_voxel = voxels_.append(g);
   const size_t node = nodes_.append(1);
   const size_t refs = refs_.append(g);
-  const size_t boxes = child_boxes_.append(grouped_box_floats(g));
+  const size_t summary = child_boxes_.append(Node::kSummaryFloats + grouped_box_floats(g));
+  const size_t boxes = summary == SIZE_MAX ? SIZE_MAX : summary + Node::kSummaryFloats;
   const size_t tri_base = tri_indices_.append(cut.tris.size());
   const size_t sample_base = sample_indices_.append(cut.samples.size());
   if (first_voxel == SIZE_MAX || node == SIZE_MAX || node >= child_ref::kMaxPayload ||
@@ -687,6 +688,26 @@ uint64_t Grid1D::occupied_cells(const Cut& cut) {
   return occupied;
 }
 
+namespace {
+
+// A node's summary (Node::boxes): box q holds the content boxes of cells q * n .. q * n + n - 1
+// (n = ceil(g / 4); floats, so the union is exact) and `spanning` (the spanning triangles'
+// box, empty when there are none). A box past the cells holds `spanning` alone.
+void write_summary(const float* cell_boxes, uint32_t g, const float spanning[6], float* summary) {
+  const uint32_t per = (g + 3) / 4;
+  for (uint32_t q = 0; q < 4; ++q)
+    for (int k = 0; k < 6; ++k) {
+      float face = spanning[k];
+      for (uint32_t i = q * per; i < std::min(g, (q + 1) * per); ++i) {
+        const float cell = cell_boxes[6 * (i & ~3u) + 4 * k + (i & 3u)];
+        face = k < 3 ? std::min(face, cell) : std::max(face, cell);
+      }
+      summary[4 * k + q] = face;
+    }
+}
+
+}  // namespace
+
 // The cells' records: place, triangle counts, area estimate (§6.5), their references (empty
 // cells are leaves from birth: nothing to cut, ever) and their content boxes (an empty
 // cell's is empty: lo +inf, hi -inf, never crossed).
@@ -734,6 +755,11 @@ void Grid1D::link_children(uint32_t id, const Cut& cut, uint32_t first_child, ui
     }
     for (int k = 0; k < 6; ++k) boxes[6 * (i & ~3u) + 4 * k + (i & 3u)] = box[k];
   }
+  float spanning_box[6];
+  content_box(
+      uint32_t(cut.spanning.size()), [&](uint32_t k) { return input_.box(cut.spanning[k]); }, lo,
+      hi, input_.clip.padding, spanning_box);
+  write_summary(boxes, g, spanning_box, boxes - Node::kSummaryFloats);
 }
 
 StructureStats Grid1D::stats() const {

@@ -183,6 +183,17 @@ bool Grid1D::enter(Cursor& cursor, RayWalk& walk, Context& context, Recorder& re
         break;
     }
     const uint32_t id = child_ref::payload(cursor.ref);
+    // A node whose summary (Node::boxes) the ray misses holds nothing it can hit: passed by
+    // like an empty cell, without going down into it (its traversal state untouched). Not
+    // asked of a ray located at its start: one that starts on a surface (a shadow ray) meets
+    // the summaries of the nodes around its start, and the test would only cost it (dragon
+    // shadow rays ran at 0.986 of the previous speed with it, 1.014 without).
+    if (cursor.entered != Cursor::kAtStart &&
+        walk.boxes->crossed_group(&child_boxes_[nodes_[id].boxes - Node::kSummaryFloats], walk.t_lo,
+                                  walk.t_hi) == 0) {
+      recorder.discard_descents();
+      return false;
+    }
     const int64_t local = descend(id, cursor.t, cursor.entered, walk, context, recorder);
     if (nodes_[id].spanning != Node::kNoSpanning &&
         test_spanning<AnyHit>(id, cursor.t, walk, context, recorder))
