@@ -80,6 +80,23 @@ std::unique_ptr<Grid1D> built_cut_along_x(const Scene& scene, const AccelParams&
   return grid;
 }
 
+// `scene` built whole by a grid whose cuts cost nothing but triangle tests (so each voxel
+// takes the most cells it may, `granularity`), down to `depth`, its root cut along x.
+std::unique_ptr<Grid1D> built_with_free_cuts(const Scene& scene, int granularity, int depth) {
+  AccelParams params;
+  params.repcost = params.travcost = params.vertcost = params.subcost = 0.0;
+  params.max_granularity = params.max_root_granularity = granularity;
+  params.max_depth = depth;
+  return built_cut_along_x(scene, params);
+}
+
+// Appends triangle a, b, c to `scene`.
+void add_triangle(Scene& scene, glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+  const auto first = uint32_t(scene.vertices.size());
+  scene.vertices.insert(scene.vertices.end(), {a, b, c});
+  scene.triangles.push_back({first, first + 1, first + 2});
+}
+
 // Builds `lazy` and `eager` (build_all) on `scene` and expects brute's answers `expected` to
 // `rays` from both: the lazy one one ray at a time and in packets of 64, the eager one on two
 // threads.
@@ -703,22 +720,14 @@ TEST(Grid1DPackets, ScatteredRaysSearchADenseLeafAloneAndMatchBrute) {
 // and across one cell (none).
 TEST(Grid1DWalk, CountsTheCellsARayCrosses) {
   Scene scene;
-  const auto add = [&scene](glm::vec3 a, glm::vec3 b, glm::vec3 c) {
-    const auto first = uint32_t(scene.vertices.size());
-    scene.vertices.insert(scene.vertices.end(), {a, b, c});
-    scene.triangles.push_back({first, first + 1, first + 2});
-  };
   for (int i = 0; i < 8; ++i) {
     const float x = float(i) + 0.4f;
-    add({x, 0.0f, 0.0f}, {x + 0.2f, 0.0f, 0.0f}, {x + 0.1f, 0.1f, 0.1f});
+    add_triangle(scene, {x, 0.0f, 0.0f}, {x + 0.2f, 0.0f, 0.0f}, {x + 0.1f, 0.1f, 0.1f});
   }
-  add({0.0f, 0.9f, 0.9f}, {0.1f, 1.0f, 1.0f}, {0.0f, 1.0f, 0.9f});  // the box's corners
-  add({7.9f, 0.9f, 0.9f}, {8.0f, 1.0f, 1.0f}, {8.0f, 0.9f, 1.0f});
-  AccelParams params;
-  params.repcost = params.travcost = params.vertcost = params.subcost = 0.0;
-  params.max_granularity = params.max_root_granularity = 8;
-  params.max_depth = 1;
-  const std::unique_ptr<Grid1D> grid = built_cut_along_x(scene, params);
+  add_triangle(scene, {0.0f, 0.9f, 0.9f}, {0.1f, 1.0f, 1.0f},
+               {0.0f, 1.0f, 0.9f});  // the box's corners
+  add_triangle(scene, {7.9f, 0.9f, 0.9f}, {8.0f, 1.0f, 1.0f}, {8.0f, 0.9f, 1.0f});
+  const std::unique_ptr<Grid1D> grid = built_with_free_cuts(scene, 8, 1);
   ASSERT_EQ(grid->voxel(0).granularity, 8u);
 
   const auto crossed = [&](glm::vec3 origin, glm::vec3 dir, float tmax) {
@@ -745,20 +754,13 @@ TEST(Grid1DWalk, CountsTheCellsARayCrosses) {
 // and hits it, as brute force does.
 TEST(Grid1DWalk, PassesByANodeWhoseSummaryTheRayMisses) {
   Scene scene;
-  const auto add = [&scene](glm::vec3 a, glm::vec3 b, glm::vec3 c) {
-    const auto first = uint32_t(scene.vertices.size());
-    scene.vertices.insert(scene.vertices.end(), {a, b, c});
-    scene.triangles.push_back({first, first + 1, first + 2});
-  };
-  add({1.4f, 0.4f, 0.5f}, {1.6f, 0.4f, 0.5f}, {1.5f, 0.6f, 0.5f});  // cell 1, near y = 0.4
-  add({1.4f, 3.4f, 0.5f}, {1.6f, 3.4f, 0.5f}, {1.5f, 3.6f, 0.5f});  // cell 1, near y = 3.6
-  add({0.4f, 2.0f, 0.0f}, {0.6f, 2.0f, 1.0f}, {0.5f, 2.1f, 0.5f});  // cell 0
-  add({3.4f, 2.0f, 0.0f}, {3.6f, 2.0f, 1.0f}, {3.5f, 2.1f, 0.5f});  // cell 3
-  AccelParams params;
-  params.repcost = params.travcost = params.vertcost = params.subcost = 0.0;
-  params.max_granularity = params.max_root_granularity = 4;
-  params.max_depth = 2;
-  const std::unique_ptr<Grid1D> grid = built_cut_along_x(scene, params);
+  add_triangle(scene, {1.4f, 0.4f, 0.5f}, {1.6f, 0.4f, 0.5f},
+               {1.5f, 0.6f, 0.5f});  // cell 1, near y = 0.4
+  add_triangle(scene, {1.4f, 3.4f, 0.5f}, {1.6f, 3.4f, 0.5f},
+               {1.5f, 3.6f, 0.5f});  // cell 1, near y = 3.6
+  add_triangle(scene, {0.4f, 2.0f, 0.0f}, {0.6f, 2.0f, 1.0f}, {0.5f, 2.1f, 0.5f});  // cell 0
+  add_triangle(scene, {3.4f, 2.0f, 0.0f}, {3.6f, 2.0f, 1.0f}, {3.5f, 2.1f, 0.5f});  // cell 3
+  const std::unique_ptr<Grid1D> grid = built_with_free_cuts(scene, 4, 2);
   ASSERT_EQ(grid->voxel(0).granularity, 4u);
   const Grid1D::Voxel& cell = grid->voxel(grid->voxel(0).first_child + 1);
   ASSERT_EQ(cell.status.load(), Grid1D::kSplit);
