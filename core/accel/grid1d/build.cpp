@@ -759,7 +759,7 @@ void Grid1D::link_children(uint32_t id, const Cut& cut, uint32_t first_child, ui
   content_box(
       uint32_t(cut.spanning.size()), [&](uint32_t k) { return input_.box(cut.spanning[k]); }, lo,
       hi, input_.clip.padding, spanning_box);
-  write_summary(boxes, g, spanning_box, boxes - Node::kSummaryFloats);
+  write_summary(boxes, g, spanning_box, &child_boxes_[record.summary()]);
 }
 
 StructureStats Grid1D::stats() const {

@@ -165,7 +165,7 @@ void Grid1D::visit_node(uint32_t id, uint64_t rays, PacketWalk& walk) const {
   const RayBoxLanes& box_lanes = walk.context.ray_box_lanes;
   TraceCounters& counters = walk.context.counters;
   // No ray of the packet's bounds meets the node's summary: nothing here for any of them.
-  if (box_lanes.may_cross4(boxes - Node::kSummaryFloats, 4, 0) == 0) return;
+  if (box_lanes.may_cross4(&child_boxes_[node.summary()], 4, 0) == 0) return;
   // The node's spanning triangles first (Node::spanning): their hits move the rays' stop
   // distances in before the cells are tested.
   if (node.spanning != Node::kNoSpanning)

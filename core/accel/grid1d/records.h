@@ -70,6 +70,8 @@ struct alignas(64) Grid1D::Node {
   static constexpr uint32_t kNoSpanning = UINT32_MAX;
 
   static constexpr uint32_t kSummaryFloats = 24;  // one group of four boxes
+  // child_boxes_ index of the node's summary (see `boxes`).
+  uint32_t summary() const { return boxes - kSummaryFloats; }
 
   // The first cell from `cell` on that holds triangles, or `none`.
   int64_t occupied_from(int64_t cell, int64_t none) const {
