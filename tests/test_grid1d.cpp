@@ -90,13 +90,6 @@ std::unique_ptr<Grid1D> built_with_free_cuts(const Scene& scene, int granularity
   return built_cut_along_x(scene, params);
 }
 
-// Appends triangle a, b, c to `scene`.
-void add_triangle(Scene& scene, glm::vec3 a, glm::vec3 b, glm::vec3 c) {
-  const auto first = uint32_t(scene.vertices.size());
-  scene.vertices.insert(scene.vertices.end(), {a, b, c});
-  scene.triangles.push_back({first, first + 1, first + 2});
-}
-
 // Builds `lazy` and `eager` (build_all) on `scene` and expects brute's answers `expected` to
 // `rays` from both: the lazy one one ray at a time and in packets of 64, the eager one on two
 // threads.
@@ -722,11 +715,11 @@ TEST(Grid1DWalk, CountsTheCellsARayCrosses) {
   Scene scene;
   for (int i = 0; i < 8; ++i) {
     const float x = float(i) + 0.4f;
-    add_triangle(scene, {x, 0.0f, 0.0f}, {x + 0.2f, 0.0f, 0.0f}, {x + 0.1f, 0.1f, 0.1f});
+    test::add_triangle(scene, {x, 0.0f, 0.0f}, {x + 0.2f, 0.0f, 0.0f}, {x + 0.1f, 0.1f, 0.1f});
   }
-  add_triangle(scene, {0.0f, 0.9f, 0.9f}, {0.1f, 1.0f, 1.0f},
-               {0.0f, 1.0f, 0.9f});  // the box's corners
-  add_triangle(scene, {7.9f, 0.9f, 0.9f}, {8.0f, 1.0f, 1.0f}, {8.0f, 0.9f, 1.0f});
+  test::add_triangle(scene, {0.0f, 0.9f, 0.9f}, {0.1f, 1.0f, 1.0f},
+                     {0.0f, 1.0f, 0.9f});  // the box's corners
+  test::add_triangle(scene, {7.9f, 0.9f, 0.9f}, {8.0f, 1.0f, 1.0f}, {8.0f, 0.9f, 1.0f});
   const std::unique_ptr<Grid1D> grid = built_with_free_cuts(scene, 8, 1);
   ASSERT_EQ(grid->voxel(0).granularity, 8u);
 
@@ -754,12 +747,12 @@ TEST(Grid1DWalk, CountsTheCellsARayCrosses) {
 // and hits it, as brute force does.
 TEST(Grid1DWalk, PassesByANodeWhoseSummaryTheRayMisses) {
   Scene scene;
-  add_triangle(scene, {1.4f, 0.4f, 0.5f}, {1.6f, 0.4f, 0.5f},
-               {1.5f, 0.6f, 0.5f});  // cell 1, near y = 0.4
-  add_triangle(scene, {1.4f, 3.4f, 0.5f}, {1.6f, 3.4f, 0.5f},
-               {1.5f, 3.6f, 0.5f});  // cell 1, near y = 3.6
-  add_triangle(scene, {0.4f, 2.0f, 0.0f}, {0.6f, 2.0f, 1.0f}, {0.5f, 2.1f, 0.5f});  // cell 0
-  add_triangle(scene, {3.4f, 2.0f, 0.0f}, {3.6f, 2.0f, 1.0f}, {3.5f, 2.1f, 0.5f});  // cell 3
+  test::add_triangle(scene, {1.4f, 0.4f, 0.5f}, {1.6f, 0.4f, 0.5f},
+                     {1.5f, 0.6f, 0.5f});  // cell 1, near y = 0.4
+  test::add_triangle(scene, {1.4f, 3.4f, 0.5f}, {1.6f, 3.4f, 0.5f},
+                     {1.5f, 3.6f, 0.5f});  // cell 1, near y = 3.6
+  test::add_triangle(scene, {0.4f, 2.0f, 0.0f}, {0.6f, 2.0f, 1.0f}, {0.5f, 2.1f, 0.5f});  // cell 0
+  test::add_triangle(scene, {3.4f, 2.0f, 0.0f}, {3.6f, 2.0f, 1.0f}, {3.5f, 2.1f, 0.5f});  // cell 3
   const std::unique_ptr<Grid1D> grid = built_with_free_cuts(scene, 4, 2);
   ASSERT_EQ(grid->voxel(0).granularity, 4u);
   const Grid1D::Voxel& cell = grid->voxel(grid->voxel(0).first_child + 1);

@@ -77,11 +77,7 @@ TEST(LeafKernels, EveryLaneGivesTheScalarKernelsAnswerBitForBit) {
   std::vector<uint32_t> ids(c.triangles.size());
   for (uint32_t i = 0; i < ids.size(); ++i) ids[i] = i;
   Scene scene;
-  for (const TriangleVerts& t : c.triangles) {
-    const auto first = uint32_t(scene.vertices.size());
-    scene.vertices.insert(scene.vertices.end(), {t.v0, t.v1, t.v2});
-    scene.triangles.push_back({first, first + 1, first + 2});
-  }
+  for (const TriangleVerts& t : c.triangles) test::add_triangle(scene, t.v0, t.v1, t.v2);
   LeafStore store(uint64_t{1} << 20);
   const LeafView leaf = store.view(store.add(ids, BuildInput(scene)));
   uint64_t lanes_checked = 0, hits = 0;

@@ -131,6 +131,12 @@ Scene make_sphere(glm::vec3 centre, float radius, int rings, int segments) {
   return scene;
 }
 
+void add_triangle(Scene& scene, glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+  const auto first = uint32_t(scene.vertices.size());
+  scene.vertices.insert(scene.vertices.end(), {a, b, c});
+  scene.triangles.emplace_back(first, first + 1, first + 2);
+}
+
 Scene make_soup(uint32_t seed, int count, glm::vec3 lo, glm::vec3 hi, float size) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f), offset(-size, size);

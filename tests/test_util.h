@@ -62,6 +62,8 @@ std::string write_temp_file(const std::string& name, const std::string& bytes);
 // The message of the InputError `run` throws ("" when it throws none).
 std::string input_error(const std::function<void()>& run);
 
+// Appends triangle a, b, c (three vertices of its own) to `scene`.
+void add_triangle(Scene& scene, glm::vec3 a, glm::vec3 b, glm::vec3 c);
 // A closed UV sphere with shared vertices (poles included), `rings` x `segments`.
 Scene make_sphere(glm::vec3 centre, float radius, int rings, int segments);
 // `count` random triangles of size about `size` inside [lo, hi].
