@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/accel/grid1d/packet_lanes.h"
+#include "core/base/bit_count.h"
 #include "core/geometry/box_test.h"
 #include "core/geometry/clip_box.h"
 #include "core/geometry/leaf.h"
@@ -22,6 +23,23 @@
 
 namespace gs {
 namespace {
+
+// The packet walk's bit count (the POPCNT instruction where this CPU has it) against a count
+// of the bits one at a time, on masks with every bit alone, every run from bit 0 and random
+// ones.
+TEST(BitCount, CountsAsOneBitAtATime) {
+  const auto one_at_a_time = [](uint64_t bits) {
+    uint32_t count = 0;
+    for (int i = 0; i < 64; ++i) count += uint32_t(bits >> i & 1);
+    return count;
+  };
+  std::vector<uint64_t> masks = {0, ~uint64_t{0}};
+  for (int i = 0; i < 64; ++i)
+    masks.push_back(uint64_t{1} << i), masks.push_back(~uint64_t{0} >> i);
+  std::mt19937_64 random(7);
+  for (int i = 0; i < 1000; ++i) masks.push_back(random() & random());
+  for (const uint64_t mask : masks) EXPECT_EQ(count_ones(mask), one_at_a_time(mask)) << mask;
+}
 
 std::vector<Isa> supported_isas() {
   std::vector<Isa> isas;

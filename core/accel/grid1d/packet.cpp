@@ -20,6 +20,7 @@
 #include <cmath>
 
 #include "core/accel/grid1d/records.h"
+#include "core/base/bit_count.h"
 #include "core/base/check.h"
 
 namespace gs {
@@ -82,13 +83,13 @@ void Grid1D::trace_together(std::span<const Ray> rays, std::span<Hit> hits,
     uint64_t group = 0;
     for_each_ray(left, [&](uint32_t i) { group |= uint64_t(lines.kind[i] == kind) << i; });
     left &= ~group;
-    if (std::popcount(group) < int(kMinPacketRays)) {
+    if (count_ones(group) < kMinPacketRays) {
       single |= group;
       continue;
     }
     walk_together<AnyHit>(group, kind, hits.data(), context);
   }
-  context.counters.packet_fallback_rays += uint64_t(std::popcount(single));
+  context.counters.packet_fallback_rays += count_ones(single);
   for_each_ray(single, [&](uint32_t i) {
     hits[i] = AnyHit ? any_hit(rays[i], context) : intersect(rays[i], context);
   });
@@ -114,8 +115,7 @@ void Grid1D::walk_together(uint64_t rays, int32_t kind, Hit* best, Context& cont
   PacketLines& lines = context.packet_lines;
   const int axes[3] = {lanes.kx, lanes.ky, lanes.kz};
   lane_ops_.prepare(lines, rays, axes, lanes, box_lanes);
-  PacketWalk walk{
-      context, best, uint32_t(std::popcount(rays)), context.packet_mailbox.next_packet(), {}, 0};
+  PacketWalk walk{context, best, count_ones(rays), context.packet_mailbox.next_packet(), {}, 0};
   for (int a = 0; a < 3; ++a) walk.step[a] = kind >> a & 1 ? -1 : 1;
   for_each_ray(rays, [&](uint32_t i) { best[i] = Hit{}; });
   visit<AnyHit>(root_ref_.load(std::memory_order_acquire), rays, walk);
@@ -188,7 +188,7 @@ void Grid1D::visit_node(uint32_t id, uint64_t rays, PacketWalk& walk) const {
       uint64_t meeting = 0;
       if (!kernel_.rays_crossed(box_lanes, group, 4, lane, 1, candidates, &meeting)) continue;
       ++counters.packet_steps;
-      counters.packet_step_rays += uint64_t(std::popcount(meeting));
+      counters.packet_step_rays += count_ones(meeting);
       counters.packet_step_slots += walk.count;
       visit<AnyHit>(ref, meeting, walk);
     }
@@ -207,8 +207,8 @@ void Grid1D::search_leaf(const LeafView& leaf, uint64_t rays, PacketWalk& walk) 
   Context& context = walk.context;
   RayBoxLanes& box_lanes = context.ray_box_lanes;
   uint64_t searching = rays & ~walk.done, improved = 0;
-  context.counters.traversal_steps += uint64_t(std::popcount(searching));
-  context.counters.leaf_triangles += uint64_t(std::popcount(searching)) * leaf.count;
+  context.counters.traversal_steps += count_ones(searching);
+  context.counters.leaf_triangles += uint64_t(count_ones(searching)) * leaf.count;
   constexpr uint32_t kRun = 64;
   uint64_t crossing[kRun];
   for (uint32_t base = 0; base < leaf.count && searching != 0; base += kRun) {
@@ -289,10 +289,10 @@ template <bool AnyHit>
   TraceCounters& counters = context.counters;
   const uint32_t id = leaf.ids[i];
   const uint64_t already = id & kOnlyHere ? 0 : context.packet_mailbox.mark(id, walk.id, crossers);
-  counters.mailbox_rejections += uint64_t(std::popcount(already));
+  counters.mailbox_rejections += count_ones(already);
   const uint64_t testing = crossers & ~already;
   if (testing == 0) return;
-  counters.intersection_tests += uint64_t(std::popcount(testing));
+  counters.intersection_tests += count_ones(testing);
   const auto triangle = int32_t(leaf.id(i));
   RayLanes& lanes = context.ray_lanes;
   RayHits& out = context.ray_hits;

@@ -8,6 +8,7 @@
 #include <bit>
 #include <cstdint>
 
+#include "core/base/bit_count.h"
 #include "core/geometry/box_test.h"
 #include "core/geometry/clip_box.h"
 #include "core/geometry/leaf.h"
@@ -71,8 +72,7 @@ inline bool searches_alone(uint64_t rays, uint64_t boxes, uint32_t run, uint32_t
   // A ray alone also sets itself up (its box lanes, kernel figures, a kernel call of its
   // own): about three wide tests' worth, as measured on the bench scenes.
   constexpr uint32_t kSetUp = 3;
-  return uint32_t(std::popcount(rays)) * ((run + width - 1) / width + kSetUp) <
-         groups * uint32_t(std::popcount(boxes));
+  return count_ones(rays) * ((run + width - 1) / width + kSetUp) < groups * count_ones(boxes);
 }
 
 struct PacketLaneOps {
