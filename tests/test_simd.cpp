@@ -337,6 +337,59 @@ TEST(ClipBoxTest, FloatTestTurnsAwayOnlyRaysThatMissTheBox) {
   EXPECT_GE(turned_away, clear_misses);
 }
 
+// A ray that starts inside the clip box at tmin = 0 takes start_walk's short way
+// (ClipBox::starts_inside), and only such a ray: its origin inside the double box and tmin
+// +0 or -0. Its walk line then starts where clip's t0 says and with clip's 1 / dir, bit for
+// bit, on origins inside the box, on its faces and a float beyond them, with zero, negative
+// zero and tiny direction components, at three scales.
+TEST(ClipBoxTest, RaysFromInsideStartAsTheClipStartsThem) {
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  uint64_t short_ways = 0;
+  for (int k = 0; k < 30000; ++k) {
+    const float scale = grazing_scale(k);
+    const ClipBox box(grazing_box(k, rng));
+    Ray ray;
+    for (int a = 0; a < 3; ++a) {
+      const double t = 0.5 + 0.5 * double(unit(rng));
+      float o = float(box.lo[a] + (box.hi[a] - box.lo[a]) * t);
+      const int where = k >> (2 * a) & 3;  // 0, 1: inside; 2: on a face; 3: a float beyond
+      if (where >= 2) {
+        const bool high = unit(rng) > 0.0f;
+        o = float(high ? box.hi[a] : box.lo[a]);
+        if (where == 3) o = high ? next_float_up(o) : next_float_down(o);
+      }
+      ray.origin[a] = o;
+      ray.dir[a] = scale * unit(rng);
+    }
+    if (k % 11 == 0) ray.dir[k % 3] = 0.0f;
+    if (k % 13 == 0) ray.dir[(k + 1) % 3] = -0.0f;
+    if (k % 23 == 0) ray.dir[(k + 2) % 3] = 1e-41f;
+    ray.tmin = k % 5 == 0 ? 0.5f : k % 5 == 1 ? -0.0f : 0.0f;
+    ray.tmax = k % 7 == 0 ? 0.999999f : INFINITY;
+    bool inside = ray.tmin == 0.0f;
+    for (int a = 0; a < 3; ++a)
+      inside = inside && box.lo[a] <= double(ray.origin[a]) && double(ray.origin[a]) <= box.hi[a];
+    if (box.starts_inside(ray)) {
+      ASSERT_TRUE(inside) << "ray " << k;
+      ++short_ways;
+    }
+    double t0 = 0.0, t1 = 0.0, inv_dir[3];
+    const bool clipped = box.clip(ray, t0, t1, inv_dir);
+    WalkLine line;
+    const bool started = start_walk(box, ray, line);
+    if (!clipped) {
+      EXPECT_FALSE(started) << "ray " << k;
+      continue;
+    }
+    EXPECT_EQ(std::bit_cast<uint64_t>(line.shift), std::bit_cast<uint64_t>(t0)) << "ray " << k;
+    for (int a = 0; a < 3; ++a)
+      EXPECT_EQ(std::bit_cast<uint64_t>(line.inv_dir[a]), std::bit_cast<uint64_t>(inv_dir[a]))
+          << "ray " << k << " axis " << a;
+  }
+  EXPECT_GT(short_ways, 2000u);
+}
+
 // One ray against a run of a leaf's boxes, 4, 8 or 16 at a time (Kernel::boxes_crossed, by
 // every kernel this CPU has), says for every box what the four-at-a-time test
 // (RayBoxes::crossed4) says: runs of 1 to 64 boxes from every offset of blocks of up to 80,

@@ -30,6 +30,7 @@ ClipBox::ClipBox(const Box& scene) : empty(scene.empty()) {
   for (int a = 0; a < 3; ++a) {
     lo[a] = scene.lo[a] - padding, hi[a] = scene.hi[a] + padding;
     lo_float[a] = float_down(lo[a]), hi_float[a] = float_up(hi[a]);
+    lo_inward[a] = float_up(lo[a]), hi_inward[a] = float_down(hi[a]);
   }
   near_range = float_down(WalkLine::kNearRange * magnitude);
 }
@@ -42,8 +43,16 @@ double ClipBox::min_cell_width(const double lo[3], const double hi[3]) const {
 }
 
 bool start_walk(const ClipBox& box, const Ray& ray, WalkLine& line) {
-  double t_leave;
-  if (!box.clip(ray, line.shift, t_leave, line.inv_dir)) return false;
+  // A ray from inside skips clip's distances (ClipBox::starts_inside): its walk's start then
+  // waits for the divisions alone, not for the chain of clip's products and comparisons too.
+  if (box.starts_inside(ray)) {
+    if (!ray_is_valid(ray)) return false;
+    for (int a = 0; a < 3; ++a) line.inv_dir[a] = 1.0 / double(ray.dir[a]);
+    line.shift = ray.tmin;
+  } else {
+    double t_leave;
+    if (!box.clip(ray, line.shift, t_leave, line.inv_dir)) return false;
+  }
   line.slack = walk_slack(ray, box.magnitude, line.inv_dir);
   line.far = false;
   for (int a = 0; a < 3; ++a) {

@@ -42,6 +42,8 @@ struct ClipBox {
   // for misses_surely.
   alignas(16) float lo_float[4] = {}, hi_float[4] = {};
   float near_range = 0.0f;
+  // The box rounded inward to float, lane 3 zero: for starts_inside.
+  alignas(16) float lo_inward[4] = {}, hi_inward[4] = {};
 
   ClipBox() = default;
   explicit ClipBox(const Box& scene);
@@ -73,6 +75,19 @@ struct ClipBox {
   bool clip(const Ray& ray, double& t0, double& t1) const {
     double inv_dir[3];
     return clip(ray, t0, t1, inv_dir);
+  }
+
+  // Whether the ray starts inside the box at tmin = 0 (a shadow ray, a camera in a room):
+  // clip's t0 is then tmin itself, bit for bit, and its t1 no smaller. Each axis's entry
+  // distance, (lo - o) / d or (hi - o) / d, is at most 0 (a rounded difference keeps the exact
+  // one's sign) and its exit distance at least 0, and max(±0, x <= 0) is the ±0. One test of
+  // four lanes: the origin against the box rounded inward (a float inside it lies inside the
+  // box), tmin in the fourth lane against 0.
+  bool starts_inside(const Ray& ray) const {
+    const __m128 start = _mm_loadu_ps(&ray.origin.x);  // x, y, z, tmin
+    const __m128 inside = _mm_and_ps(_mm_cmple_ps(_mm_load_ps(lo_inward), start),
+                                     _mm_cmple_ps(start, _mm_load_ps(hi_inward)));
+    return !empty && _mm_movemask_ps(inside) == 15;
   }
 
   // True only when the ray's segment [tmin, tmax] misses the box, so that no structure can
