@@ -766,6 +766,40 @@ std::vector<Ray> start_rays(std::mt19937& random) {
     ray.dir = i % 8 == 0 ? target - ray.origin : out + 0.3f * glm::vec3(unit(random));
     rays.push_back(ray);
   }
+  // Packets of rays from inside the box at tmin +-0 (shadow rays, a camera in a room), which
+  // skip the first clip when a whole lane group does: every one inside in the first blocks;
+  // then one in five on the box rounded inward, one float beyond the box, or at a tmin that
+  // is not zero, so that groups mix the two ways.
+  const ClipBox clip(kStartBox);
+  for (int i = 0; i < 64 * 8; ++i) {
+    Ray ray;
+    for (int a = 0; a < 3; ++a) {
+      const float t = 0.5f + 0.5f * unit(random);
+      ray.origin[a] = kStartBox.lo[a] + t * (kStartBox.hi[a] - kStartBox.lo[a]);
+      ray.dir[a] = unit(random);
+    }
+    ray.tmin = (i / 64) % 2 ? -0.0f : 0.0f, ray.tmax = (i % 7 == 3) ? 0.0f : 1.5f;
+    if (i % 13 == 5) ray.dir[i % 3] = (i / 13) % 2 ? 0.0f : -0.0f;
+    if (i >= 64 * 4 && i % 5 == 0) {
+      const int a = (i / 5) % 3;
+      switch ((i / 15) % 4) {
+        case 0:
+          ray.origin[a] = (i / 2) % 2 ? clip.hi_inward[a] : clip.lo_inward[a];
+          break;
+        case 1:  // the box rounded outward: outside the box itself where that rounded
+          ray.origin[a] = (i / 2) % 2 ? clip.hi_float[a] : clip.lo_float[a];
+          break;
+        case 2:
+          ray.origin[a] = (i / 2) % 2 ? std::nextafter(clip.hi_float[a], INFINITY)
+                                      : std::nextafter(clip.lo_float[a], -INFINITY);
+          break;
+        default:
+          ray.tmin = (i / 2) % 2 ? 1e-30f : -1e-30f;
+          break;
+      }
+    }
+    rays.push_back(ray);
+  }
   return rays;
 }
 
@@ -778,7 +812,7 @@ TEST(PacketLanes, StartIsTheSingleRayStartBitForBit) {
   std::mt19937 random(11);
   const std::vector<Ray> rays = start_rays(random);
   const ClipBox box(kStartBox);
-  size_t tried = 0, walks = 0, misses = 0, far = 0, bounded_axes = 0;
+  size_t tried = 0, walks = 0, misses = 0, far = 0, bounded_axes = 0, from_inside = 0;
   for (const Isa isa : supported_isas()) {
     const PacketLaneOps ops = packet_lane_ops(isa);
     for (size_t packet = 0; packet < rays.size(); packet += 64) {
@@ -794,7 +828,7 @@ TEST(PacketLanes, StartIsTheSingleRayStartBitForBit) {
         ASSERT_EQ(bool(started >> i & 1), starts) << isa_name(isa) << " ray " << packet + i;
         ++tried, misses += !starts;
         if (!starts) continue;
-        ++walks;
+        ++walks, from_inside += box.starts_inside(ray);
         for (int a = 0; a < 3; ++a) {
           EXPECT_EQ(bits(lines.origin[a][i]), bits(line.origin[a]));
           EXPECT_EQ(bits(lines.dir[a][i]), bits(line.dir[a]));
@@ -863,10 +897,12 @@ TEST(PacketLanes, StartIsTheSingleRayStartBitForBit) {
     }
   }
   EXPECT_GT(bounded_axes, 0u);
-  // Both outcomes, and far rays, are checked.
+  // Both outcomes, far rays and rays from inside at tmin 0 (whole lane groups of them, by
+  // the packets built for them), are checked.
   EXPECT_GT(walks, tried / 4);
   EXPECT_GT(misses, tried / 10);
   EXPECT_GT(far, 10u);
+  EXPECT_GT(from_inside, walks / 10);
 }
 
 // The packet start's float test (PacketLaneOps::turned_away), with every instruction set

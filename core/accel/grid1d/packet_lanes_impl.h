@@ -140,14 +140,27 @@ struct LaneMath {
     return turned;
   }
 
+  // ClipBox::starts_inside for a lane group's rays: whether each of `group` starts inside
+  // the box (rounded inward) at tmin = +-0, where clip's t0 is tmin bit for bit.
+  static bool start_inside(const ClipBox& box, uint32_t first, uint32_t group,
+                           const PacketLines& l) {
+    Int inside = load_float(&l.tmin[first]) == 0.0f;
+    for (int a = 0; a < 3; ++a) {
+      const Float o = load_float(&l.ray_origin[a][first]);
+      inside &= (box.lo_inward[a] <= o) & (o <= box.hi_inward[a]);
+    }
+    return (group & ~Lanes::bits(__builtin_convertvector(inside, Mask))) == 0;
+  }
+
   // start_walk (core/geometry/clip_box.cpp) and the kind, a lane group at a time. The float
   // test goes first, and a group whose rays it all turns away is passed over: in a tile at
-  // the edge of the scene, most are.
+  // the edge of the scene, most are. A group whose rays all start inside the box at tmin 0
+  // (shadow rays, a camera in a room) skips the first clip, as start_walk does.
   static uint64_t start(const ClipBox& box, uint32_t count, PacketLines& l) {
     if (box.empty) return 0;
     uint64_t started = 0, far = 0;
     const uint64_t rays = rays_of(count) & ~turned_away(box, count, l);
-    for_each_group(rays, [&](uint32_t first, uint32_t /*group*/) {
+    for_each_group(rays, [&](uint32_t first, uint32_t group) {
       Real o[3], d[3], inv_dir[3];
       const Real tmin = load(&l.tmin[first]), tmax = load(&l.tmax[first]);
       // ray_is_valid: finite origin and direction, a direction, tmin <= tmax.
@@ -159,7 +172,8 @@ struct LaneMath {
         inv_dir[a] = 1.0 / d[a];
       }
       Real shift = tmin, leave = tmax;
-      Mask walks = valid & ~zero_dir & clip(box, o, d, inv_dir, shift, leave);
+      Mask walks = valid & ~zero_dir;
+      if (!start_inside(box, first, group, l)) walks &= clip(box, o, d, inv_dir, shift, leave);
       // walk_slack.
       Real largest = splat(box.magnitude), shortest_inverse = splat(kInf);
       for (int a = 0; a < 3; ++a) {
