@@ -60,7 +60,8 @@ double prepare(Accelerator& accel, const Scene& scene, const std::vector<Ray>& r
 }
 
 // The rays in the order packets take them, and where each packet starts in that order (one
-// more entry: the end). Consecutive rays, or an image's k x k tiles, row by row of tiles.
+// more entry: the end). Consecutive rays (`rays` empty: the file's order), or an image's
+// k x k tiles, row by row of tiles.
 struct PacketOrder {
   std::vector<uint32_t> rays;
   std::vector<size_t> starts;
@@ -69,7 +70,6 @@ PacketOrder packet_order(size_t count, const TraceJob& job) {
   PacketOrder order;
   const auto side = size_t(std::lround(std::sqrt(double(job.packets))));
   if (job.sample_image_width == 0) {
-    for (size_t i = 0; i < count; ++i) order.rays.push_back(uint32_t(i));
     for (size_t i = 0; i < count; i += size_t(job.packets)) order.starts.push_back(i);
   } else {
     if (side * side != size_t(job.packets))
@@ -96,7 +96,7 @@ TraceCounters trace_packets(const Accelerator& accel, const std::vector<Ray>& ra
                             const PacketOrder& order, const TraceJob& job, std::vector<Hit>& hits) {
   const size_t packets = order.starts.size() - 1;
   const size_t chunk = std::max<size_t>(1, kRayChunk / size_t(job.packets));
-  const bool consecutive = job.sample_image_width == 0;
+  const bool consecutive = order.rays.empty();
   return trace_chunks(
       accel, packets, chunk, job.threads, [&](ThreadContext& context, size_t begin, size_t end) {
         Ray gathered[Accelerator::kMaxPacketRays];
@@ -104,13 +104,14 @@ TraceCounters trace_packets(const Accelerator& accel, const std::vector<Ray>& ra
         Hit answers[Accelerator::kMaxPacketRays];
         for (size_t p = begin; p < end; ++p) {
           const size_t first = order.starts[p], n = order.starts[p + 1] - first;
-          for (size_t k = 0; k < n; ++k) keys[k] = order.rays[first + k];
           if (consecutive) {
+            for (size_t k = 0; k < n; ++k) keys[k] = first + k;
             accel.trace_packet({&rays[first], n}, {keys, n}, {&hits[first], n}, job.occluded,
                                context);
             continue;
           }
-          for (size_t k = 0; k < n; ++k) gathered[k] = rays[keys[k]];
+          for (size_t k = 0; k < n; ++k)
+            keys[k] = order.rays[first + k], gathered[k] = rays[keys[k]];
           accel.trace_packet({gathered, n}, {keys, n}, {answers, n}, job.occluded, context);
           for (size_t k = 0; k < n; ++k) hits[keys[k]] = answers[k];
         }
