@@ -460,9 +460,12 @@ std::optional<double> answer_seconds(const json* record) {
   return *build + *first;
 }
 
-SceneCheck answer_time_check(const json& records, const std::string& scene) {
-  const json* embree = find_record(records, {scene, "embree"});
-  const auto grid_seconds = answer_seconds(find_record(records, {scene, "grid1d"}));
+// On `threads` threads for both structures' builds and first renders.
+SceneCheck answer_time_check(const json& records, const std::string& scene, int threads) {
+  const json* embree =
+      find_record(records, {scene, "embree", "primary_shadow", "default", threads});
+  const auto grid_seconds =
+      answer_seconds(find_record(records, {scene, "grid1d", "primary_shadow", "default", threads}));
   const auto embree_seconds = answer_seconds(embree);
   if (!grid_seconds || !embree_seconds)
     return {scene, std::nullopt, embree ? "build or first render not measured" : "embree not run"};
@@ -535,13 +538,30 @@ SceneCheck calibration_check(const json& records, const std::string& scene) {
               speed_text(*standard, "%.3f")};
 }
 
-std::vector<SceneCheck> checks_for(const json& records, bool varying_only,
-                                   SceneCheck (*check)(const json&, const std::string&)) {
+std::vector<SceneCheck> checks_for(
+    const json& records, bool varying_only,
+    const std::function<SceneCheck(const json&, const std::string&)>& check) {
   std::vector<SceneCheck> checks;
   for (const std::string& scene : record_scenes(records))
     if (!varying_only || scene_info(records, scene).varying)
       checks.push_back(check(records, scene));
   return checks;
+}
+
+// Time to the answer: the build (grid1d's with its sampling pass) and the first render (grid1d's
+// with its lazy build), both structures building and tracing on `threads` threads.
+std::string answer_time_verdict(const json& records, int threads) {
+  return verdict(
+      "grid1d's time to the answer, its build, sampling pass and first render (lazy build "
+      "included), at most Embree's build and first render (" +
+          std::to_string(threads) + (threads == 1 ? " thread" : " threads") +
+          " for both builds and renders, default settings; seconds)",
+      was_run(records, "embree") ? checks_for(records, false,
+                                              [threads](const json& all, const std::string& scene) {
+                                                return answer_time_check(all, scene, threads);
+                                              })
+                                 : std::vector<SceneCheck>{},
+      "embree not run (not in this build or not asked for)");
 }
 
 std::string targets_section(const json& records) {
@@ -558,13 +578,9 @@ std::string targets_section(const json& records) {
                  was_run(records, "embree") ? checks_for(records, false, embree_check)
                                             : std::vector<SceneCheck>{},
                  "embree not run (not in this build or not asked for)") +
-         verdict(
-             "grid1d's time to the answer, its build, sampling pass and first render (lazy "
-             "build included), at most Embree's build and first render (1 thread, default "
-             "settings; seconds)",
-             was_run(records, "embree") ? checks_for(records, false, answer_time_check)
-                                        : std::vector<SceneCheck>{},
-             "embree not run (not in this build or not asked for)") +
+         answer_time_verdict(records, 1) +
+         (has_records(records, "primary_shadow", "default", 2) ? answer_time_verdict(records, 2)
+                                                               : std::string()) +
          verdict(
              "grid1d faster than our scalar BVH on every scene, each at its best setting "
              "(time relative to zero-overhead)",

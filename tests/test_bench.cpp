@@ -181,6 +181,18 @@ TEST_F(BenchRunTest, EveryStructureThreadCountAndWorkloadIsMeasured) {
     }
 }
 
+// Every structure builds on the threads its run traces on (Embree's build would otherwise
+// take every core, also for a 1-thread figure).
+TEST_F(BenchRunTest, EveryStructureBuildsOnItsRunsThreads) {
+  size_t checked = 0;
+  for (const json& r : select("primary_shadow"))
+    if (r["setting"] == "default" && r["accel"] != "reference") {
+      EXPECT_EQ(r["params"]["build_threads"], r["threads"]) << r["accel"];
+      ++checked;
+    }
+  EXPECT_GE(checked, 6u);
+}
+
 TEST_F(BenchRunTest, RayCountsMatchAnIndependentRender) {
   const Scene scene = load_scene(*path_);
   for (const json& r : select("primary_shadow")) {
