@@ -564,6 +564,14 @@ std::string answer_time_verdict(const json& records, int threads) {
       "embree not run (not in this build or not asked for)");
 }
 
+// One time-to-the-answer verdict per thread count the run has: 1, then the multi-thread ones.
+std::string answer_time_verdicts(const json& records) {
+  std::string out = answer_time_verdict(records, 1);
+  for (const int threads : multi_thread_counts(records))
+    out += answer_time_verdict(records, threads);
+  return out;
+}
+
 std::string targets_section(const json& records) {
   return "## Targets\n\n" +
          verdict(
@@ -578,9 +586,7 @@ std::string targets_section(const json& records) {
                  was_run(records, "embree") ? checks_for(records, false, embree_check)
                                             : std::vector<SceneCheck>{},
                  "embree not run (not in this build or not asked for)") +
-         answer_time_verdict(records, 1) +
-         (has_records(records, "primary_shadow", "default", 2) ? answer_time_verdict(records, 2)
-                                                               : std::string()) +
+         answer_time_verdicts(records) +
          verdict(
              "grid1d faster than our scalar BVH on every scene, each at its best setting "
              "(time relative to zero-overhead)",
