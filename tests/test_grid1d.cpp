@@ -238,6 +238,84 @@ TEST(Grid1DSampling, CutsSeeSegmentsEndingAtTheirHits) {
   EXPECT_EQ(unclipped_cuts, clipped_cuts);
 }
 
+// Where the sampling pass's scout made a cut the same way (same voxel, axis and g), the
+// structure takes the scout's cells as they stand instead of sorting its triangles again.
+// Every cut, taken or sorted, must hold what its geometry says: each cell lists, in the
+// voxel's order, the triangles whose extent (clipped to the voxel) along the cut axis meets
+// the cell, except those that meet every cell (kept at the node: in no cell's list). Checked
+// against the voxels' walls, with a margin for triangles that touch a wall.
+TEST(Grid1DSampling, CutsTakenFromTheScoutHoldWhatTheirGeometrySays) {
+  size_t checked = 0;
+  for (const size_t scene_index : {size_t{0}, size_t{1}, size_t{2}}) {
+    const Scene& scene = cases()[scene_index].scene;
+    const Camera camera = frame_box(scene.bounds());
+    const Lighting lighting = make_lighting(scene, camera, std::nullopt);
+    std::vector<Ray> primaries;
+    // A sample of 8x8 rays standing for 4096 each: the final structure cuts most voxels as the
+    // scout did, some otherwise, and build_all cuts voxels the scout never reached.
+    for (int y = 0; y < 8; ++y)
+      for (int x = 0; x < 8; ++x) primaries.push_back(camera.primary_ray(x, y, 8, 8));
+    Grid1D grid{AccelParams{}};
+    grid.build(scene);
+    sample_image_rays(grid, scene, lighting, primaries, 4096 * primaries.size(), 1);
+    grid.build_all();
+    // Both ways occur: cuts taken from the scout, and cuts of voxels the scout never reached
+    // (or cut otherwise), sorted here.
+    const BuildFigures figures = grid.build_progress()->figures();
+    EXPECT_GT(figures.triangles_from_scout, 0u) << cases()[scene_index].name;
+    EXPECT_LT(figures.triangles_from_scout, figures.triangles_sorted) << cases()[scene_index].name;
+    std::printf("%s: %llu of %llu triangles sorted in cuts taken from the scout\n",
+                cases()[scene_index].name.c_str(), (unsigned long long)figures.triangles_from_scout,
+                (unsigned long long)figures.triangles_sorted);
+    const BuildInput input(scene);
+    for (uint32_t id = 0; id < grid.voxel_count(); ++id) {
+      const Grid1D::Voxel& voxel = grid.voxel(id);
+      if (voxel.status.load() != Grid1D::kSplit) continue;
+      const int a = voxel.axis;
+      double lo[3], hi[3];
+      grid.voxel_box(id, lo, hi);
+      const double margin = 1e-9 * (hi[a] - lo[a]);
+      const std::span<const uint32_t> tris = grid.voxel_triangles(id);
+      std::vector<std::vector<uint32_t>> expected(voxel.granularity);
+      for (const uint32_t tri : tris) {
+        const double t_lo = std::max(input.box_lo(tri, a), lo[a]);
+        const double t_hi = std::min(input.box_hi(tri, a), hi[a]);
+        std::vector<int> surely, maybe;
+        for (uint32_t i = 0; i < voxel.granularity; ++i) {
+          double cell_lo[3], cell_hi[3];
+          grid.voxel_box(voxel.first_child + i, cell_lo, cell_hi);
+          if (t_lo < cell_hi[a] - margin && t_hi > cell_lo[a] + margin) surely.push_back(int(i));
+          if (t_lo <= cell_hi[a] + margin && t_hi >= cell_lo[a] - margin) maybe.push_back(int(i));
+        }
+        const bool listed_anywhere = std::any_of(maybe.begin(), maybe.end(), [&](int i) {
+          const auto cell = grid.voxel_triangles(voxel.first_child + uint32_t(i));
+          return std::find(cell.begin(), cell.end(), tri) != cell.end();
+        });
+        if (!listed_anywhere) {  // kept at the node: it must meet every cell
+          EXPECT_EQ(maybe.size(), voxel.granularity) << "triangle " << tri << " voxel " << id;
+          continue;
+        }
+        for (const int i : maybe) {
+          const auto cell = grid.voxel_triangles(voxel.first_child + uint32_t(i));
+          const bool listed = std::find(cell.begin(), cell.end(), tri) != cell.end();
+          if (std::find(surely.begin(), surely.end(), i) != surely.end()) {
+            EXPECT_TRUE(listed) << "triangle " << tri << " cell " << i << " of voxel " << id;
+          }
+          if (listed) expected[size_t(i)].push_back(tri);
+        }
+      }
+      // Nothing else is listed, in the voxel's order.
+      for (uint32_t i = 0; i < voxel.granularity; ++i) {
+        const auto cell = grid.voxel_triangles(voxel.first_child + i);
+        EXPECT_EQ(std::vector<uint32_t>(cell.begin(), cell.end()), expected[i])
+            << "cell " << i << " of voxel " << id;
+      }
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 100u);
+}
+
 // The recorded walk lists the cells the walk looked at (leaves whose contents the ray
 // meets; cells crossed without a look are not listed), in the order the ray enters them:
 // each holds triangles, the ray is inside it where the walk says it entered, through the

@@ -53,7 +53,8 @@ void figures_text(const BuildFigures& f, bool sampling) {
     ImGui::Text("its scout: %llu voxels built", n(f.scout_voxels_built));
   }
   ImGui::Text("voxels built: %llu, cut: %llu", n(f.voxels_built), n(f.voxels_subdivided));
-  ImGui::Text("triangles sorted: %llu", n(f.triangles_sorted));
+  ImGui::Text("triangles sorted: %llu (%llu in cuts taken from the scout)", n(f.triangles_sorted),
+              n(f.triangles_from_scout));
 }
 
 void draw_bar(const ViewState& state, const BuildStatus& status) {

@@ -71,6 +71,7 @@ nlohmann::json figures_json(const std::optional<BuildFigures>& figures) {
   return {{"voxels_built", figures->voxels_built},
           {"voxels_subdivided", figures->voxels_subdivided},
           {"triangles_sorted", figures->triangles_sorted},
+          {"triangles_from_scout", figures->triangles_from_scout},
           {"sample_rays", figures->sample_rays},
           {"sample_rays_traced", figures->sample_rays_traced},
           {"scout_voxels_built", figures->scout_voxels_built},

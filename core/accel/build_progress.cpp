@@ -13,6 +13,7 @@ BuildFigures BuildProgress::figures() const {
   f.voxels_built = voxels_built.load(relaxed);
   f.voxels_subdivided = voxels_subdivided.load(relaxed);
   f.triangles_sorted = triangles_sorted.load(relaxed);
+  f.triangles_from_scout = triangles_from_scout.load(relaxed);
   f.sample_rays = sample_rays.load(relaxed);
   f.sample_rays_traced = sample_rays_traced.load(relaxed);
   f.scout_voxels_built = scout_voxels_built.load(relaxed);

@@ -16,9 +16,13 @@ struct BuildFigures {
   uint64_t voxels_built = 0;
   uint64_t voxels_subdivided = 0;
   uint64_t triangles_sorted = 0;
+  // Of triangles_sorted, those of cuts the sampling pass's scout had made the same way: taken
+  // from it as they stand, not sorted again.
+  uint64_t triangles_from_scout = 0;
   // The sampling pass (§6.5): its rays (those it spawns, shadow rays, not counted), how many
   // of them were traced, and the voxels of the scout those rays built (the scout is the
-  // sample-less structure that finds where the sample's rays end; it dies with the pass).
+  // sample-less structure that finds where the sample's rays end; the structure keeps what it
+  // built for the cuts it makes the same way).
   uint64_t sample_rays = 0;
   uint64_t sample_rays_traced = 0;
   uint64_t scout_voxels_built = 0;
@@ -35,6 +39,7 @@ struct BuildProgress {
   std::atomic<uint64_t> voxels_built{0};
   std::atomic<uint64_t> voxels_subdivided{0};
   std::atomic<uint64_t> triangles_sorted{0};
+  std::atomic<uint64_t> triangles_from_scout{0};
   std::atomic<uint64_t> sample_rays{0};
   std::atomic<uint64_t> sample_rays_traced{0};
   std::atomic<uint64_t> scout_voxels_built{0};

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <new>
 #include <type_traits>
+#include <utility>
 
 namespace gs {
 
@@ -31,6 +32,17 @@ class StableArray {
   }
   StableArray(const StableArray&) = delete;
   StableArray& operator=(const StableArray&) = delete;
+  // Exchanges two arrays' elements (their reservations): a structure taking over what
+  // another one built. Only while no other thread reads either.
+  void swap(StableArray& other) noexcept {
+    std::swap(mapping_, other.mapping_);
+    std::swap(mapped_bytes_, other.mapped_bytes_);
+    std::swap(data_, other.data_);
+    std::swap(capacity_, other.capacity_);
+    const size_t size = size_.load(std::memory_order_relaxed);
+    size_.store(other.size_.load(std::memory_order_relaxed), std::memory_order_relaxed);
+    other.size_.store(size, std::memory_order_relaxed);
+  }
 
   T& operator[](size_t i) { return data_[i]; }
   const T& operator[](size_t i) const { return data_[i]; }

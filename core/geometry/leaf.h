@@ -51,6 +51,12 @@ class LeafStore {
   // Drops every leaf and reserves `max_bytes` afresh: for a structure built up front, which
   // knows what its leaves take before it stores them. Only while nobody reads the store.
   void reset(uint64_t max_bytes);
+  // Exchanges two stores' leaves (handles stay valid in the store that holds them now). Only
+  // while nobody reads either.
+  void swap(LeafStore& other) noexcept {
+    ids_.swap(other.ids_);
+    coords_.swap(other.coords_);
+  }
   // Appends a leaf of the triangles `ids` (each with kOnlyHere where it applies; corners
   // and padded boxes from `input`) and returns its handle, or kFull when the reservation is
   // spent.

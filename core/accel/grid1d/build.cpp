@@ -28,6 +28,9 @@ double grid_wall(double origin, double extent, uint64_t index, uint64_t granular
   return origin + extent * (double(index) / double(granularity));
 }
 
+// Region::mean_size where the voxel's plan computed none.
+constexpr double kNotComputed = std::numeric_limits<double>::quiet_NaN();
+
 double surface_area(const double extent[3]) {
   return 2.0 * (extent[0] * extent[1] + extent[1] * extent[2] + extent[2] * extent[0]);
 }
@@ -147,6 +150,8 @@ void Grid1D::make_root() {
   Region& region = regions_[root];
   for (int a = 0; a < 3; ++a) region.cell[a] = 0, region.grid[a] = 1, region.above[a] = kNone;
   region.ref = kNone;
+  region.scout_twin = kNone;
+  std::fill_n(region.mean_size, 3, kNotComputed);
   region.area_rays = kInf;  // no sampling pass: assume plenty of rays
   const bool empty = usable.empty() || input_.clip.empty;
   if (empty) voxel.status.store(kLeaf, std::memory_order_relaxed);
@@ -158,13 +163,15 @@ void Grid1D::make_root() {
 // their hits). First a scout, a grid1d with no sample (every cut assumes plenty of rays),
 // traces the sample rays and those `spawn` adds, on `threads` threads; then the segments,
 // clipped at the scout's exact answers, go to this structure's root, which nothing has cut.
-// Every cut is thus a function of the sample alone.
+// Every cut is thus a function of the sample alone. The scout is kept (keep_scout).
 void Grid1D::sample(std::span<const Ray> sample_rays, double run_rays_per_sample_ray,
                     const SpawnRays& spawn, int threads) {
   if (sampled_ || (voxels_[0].status.load() != kUnexamined && voxels_[0].tri_count > 0))
     throw std::logic_error("Grid1D::sample must come once, before any tracing or build_all");
   const auto start = Clock::now();
-  sample_ = scout_sample(sample_rays, spawn, threads);
+  auto scout = std::make_unique<Grid1D>(params_);
+  sample_ = scout_sample(*scout, sample_rays, spawn, threads);
+  keep_scout(std::move(scout));
   sampled_ = true;
   rays_per_sample_ = run_rays_per_sample_ray;
   Region& root = regions_[0];
@@ -221,9 +228,8 @@ std::vector<ScoutChunk> trace_sample(const Accelerator& scout, std::span<const R
 // rays' in order, then those of the rays they spawned, in the order of the rays that spawned
 // them. Answers are exact in any structure however it was built, so the segments, and with
 // them every cut, do not depend on the threads or on the order they trace in.
-std::vector<Grid1D::SampleRay> Grid1D::scout_sample(std::span<const Ray> sample_rays,
+std::vector<Grid1D::SampleRay> Grid1D::scout_sample(Grid1D& scout, std::span<const Ray> sample_rays,
                                                     const SpawnRays& spawn, int threads) {
-  Grid1D scout(params_);
   // The scout borrows the build's input and gives it back however it leaves.
   struct Loan {
     BuildInput& owner;
@@ -250,6 +256,52 @@ std::vector<Grid1D::SampleRay> Grid1D::scout_sample(std::span<const Ray> sample_
     for (size_t k = 0; k < chunk.spawned.size(); ++k)
       add_segment(chunk.spawned[k], chunk.spawned_hits[k]);
   return segments;
+}
+
+// The scout's cuts are most of this structure's: both cut by the same cost function, the scout
+// as if rays were plentiful, this structure with the sample's rays, and where rays are
+// plentiful (near the root, and wherever the sample's rays go) they agree (on the bench's
+// scenes 95-99% of the triangles this structure sorts lie in cuts the scout made the same
+// way). So this structure takes over the scout's storage of triangle lists, content boxes
+// and leaf blocks, and keeps the scout's voxel tree to find in it, for each voxel, its twin
+// (Region::scout_twin): a cut the twin made the same way, or a leaf it made, is taken as it
+// stands instead of being built again (scout_node, scout_leaf). Nothing that decides a cut
+// comes from the scout: only what the cut would compute, bit for bit the same. Memory the
+// scout holds counts against this structure's budget.
+void Grid1D::keep_scout(std::unique_ptr<Grid1D> scout) {
+  tri_indices_.swap(scout->tri_indices_);
+  child_boxes_.swap(scout->child_boxes_);
+  leaves_.swap(scout->leaves_);
+  // Both roots list the usable triangles in their order.
+  voxels_[0].tri_begin = scout->voxels_[0].tri_begin;
+  regions_[0].scout_twin = 0;
+  bytes_used_ += scout->bytes_used_.load();
+  scout_ = std::move(scout);
+}
+
+// The scout's node for voxel `id` cut along `axis` into g cells, when the scout cut the
+// voxel's twin that very way; kNone otherwise.
+uint32_t Grid1D::scout_node(uint32_t id, int axis, int g) const {
+  const uint32_t twin = regions_[id].scout_twin;
+  if (twin == kNone) return kNone;
+  const Voxel& voxel = scout_->voxels_[twin];
+  if (voxel.status.load(std::memory_order_acquire) != kSplit || voxel.axis != axis ||
+      voxel.granularity != g)
+    return kNone;
+  // A cut voxel's cells have its node as their nearest ancestor cut along its axis.
+  return scout_->regions_[voxel.first_child].above[axis];
+}
+
+// The scout's leaf block for voxel `id`, when the scout made the voxel's twin a leaf with one
+// (of the same triangles: the block this structure would store); LeafStore::kFull otherwise.
+uint32_t Grid1D::scout_leaf(uint32_t id) const {
+  const uint32_t twin = regions_[id].scout_twin;
+  if (twin == kNone || scout_->voxels_[twin].status.load(std::memory_order_acquire) != kLeaf)
+    return LeafStore::kFull;
+  const uint32_t at = scout_->regions_[twin].ref;
+  const uint32_t ref =
+      (at == kNone ? scout_->root_ref_ : scout_->refs_[at]).load(std::memory_order_acquire);
+  return child_ref::kind(ref) == child_ref::kLeaf ? child_ref::payload(ref) : LeafStore::kFull;
 }
 
 // The sampling pass's figures after `traced` of its rays: the scout builds as they go. Several
@@ -357,6 +409,8 @@ std::vector<uint32_t> Grid1D::leaf_ids(uint32_t id, std::span<const uint32_t> tr
 // A finished leaf's triangles stored once in the kernel's form; the kUnbuilt reference
 // (search through the id list) when the memory budget is spent.
 uint32_t Grid1D::make_leaf(uint32_t id) const {
+  const uint32_t scouts = scout_leaf(id);
+  if (scouts != LeafStore::kFull) return child_ref::make(child_ref::kLeaf, scouts);
   const uint32_t count = voxels_[id].tri_count;
   const uint32_t unbuilt = child_ref::make(child_ref::kUnbuilt, id);
   if (!reserve_bytes(LeafStore::bytes_for(count))) return unbuilt;
@@ -415,6 +469,18 @@ double Grid1D::mean_clipped_size(uint32_t id, int axis, const double lo[3],
   return sum / voxel.tri_count;
 }
 
+// mean_clipped_size for a voxel's plan: the scout's twin's where its plan computed it (the
+// same triangles in the same order: the same sum, bit for bit). Kept in the voxel's region,
+// where a structure that keeps this one as its scout finds it.
+double Grid1D::planned_mean_size(uint32_t id, int axis, const double lo[3],
+                                 const double hi[3]) const {
+  Region& region = regions_[id];
+  const uint32_t twin = region.scout_twin;
+  double mean = twin == kNone ? kNotComputed : scout_->regions_[twin].mean_size[axis];
+  if (std::isnan(mean)) mean = mean_clipped_size(id, axis, lo, hi);
+  return region.mean_size[axis] = mean;
+}
+
 // The most cells each axis may take: max granularity (the root's own below it), the minimum
 // cell width, and the absolute granularity cap; 0 for an axis that cannot be cut.
 std::array<int, 3> Grid1D::granularity_limits(uint32_t id, const VoxelFigures& figures,
@@ -461,7 +527,7 @@ Grid1D::Cut Grid1D::plan_cut(uint32_t id) const {
   for (int k = 0; k < 3; ++k) {
     const int a = (int(region.depth) + k) % 3;
     if (limits[a] == 0) continue;
-    figures.mean_size[a] = mean_clipped_size(id, a, lo, hi);
+    figures.mean_size[a] = planned_mean_size(id, a, lo, hi);
     const AxisPlan plan = plan_axis(params_, figures, a, limits[a]);
     if (alternate) {
       // The first axis that can be cut decides whether to cut; the next ones are planned,
@@ -515,23 +581,28 @@ bool Grid1D::sort_into_cells(uint32_t id, int axis, int g, const double lo[3], c
   const CellLocator locate{grid.origin, double(granularity) / grid.extent,
                            double(region.cell[axis] * uint64_t(g)), double(g - 1)};
 
-  const std::span<const uint32_t> tris = voxel_triangles(id);
-  CellSpread tri_spread(tris.size(), g);
-  bool separates = false;
-  cut.spanning.clear();
-  for (size_t i = 0; i < tris.size(); ++i) {
-    const CellRange range{locate(std::max(input_.box_lo(tris[i], axis), lo[axis])),
-                          locate(std::min(input_.box_hi(tris[i], axis), hi[axis]))};
-    const bool spans = range.first == 0 && range.last == g - 1;
-    separates |= !spans;
-    // A triangle in every cell goes to the node (Node::spanning), in no cell.
-    if (spans) cut.spanning.push_back(tris[i]);
-    tri_spread.add(i, spans ? CellRange{1, 0} : range);
+  cut.scout_node = scout_node(id, axis, g);
+  if (cut.scout_node != kNone) {
+    take_scouts_cells(cut.scout_node, cut);
+  } else {
+    const std::span<const uint32_t> tris = voxel_triangles(id);
+    CellSpread tri_spread(tris.size(), g);
+    bool separates = false;
+    cut.spanning.clear();
+    for (size_t i = 0; i < tris.size(); ++i) {
+      const CellRange range{locate(std::max(input_.box_lo(tris[i], axis), lo[axis])),
+                            locate(std::min(input_.box_hi(tris[i], axis), hi[axis]))};
+      const bool spans = range.first == 0 && range.last == g - 1;
+      separates |= !spans;
+      // A triangle in every cell goes to the node (Node::spanning), in no cell.
+      if (spans) cut.spanning.push_back(tris[i]);
+      tri_spread.add(i, spans ? CellRange{1, 0} : range);
+    }
+    if (!separates) return false;
+    tri_spread.lay_out(tris, cut.tri_offsets, cut.tris);
   }
-  if (!separates) return false;
   cut.axis = axis;
   cut.granularity = g;
-  tri_spread.lay_out(tris, cut.tri_offsets, cut.tris);
 
   CellSpread ray_spread(crossing.size(), g);
   std::vector<uint32_t> rays(crossing.size());
@@ -545,6 +616,25 @@ bool Grid1D::sort_into_cells(uint32_t id, int axis, int g, const double lo[3], c
   }
   ray_spread.lay_out(rays, cut.sample_offsets, cut.samples);
   return true;
+}
+
+// A cut the scout made the same way (its node `node`): its cells' triangle counts as
+// offsets (their lists stay where the scout put them, in tri_indices_) and its spanning
+// triangles, from its node's leaf block.
+void Grid1D::take_scouts_cells(uint32_t node, Cut& cut) const {
+  const Voxel& cut_voxel = scout_->voxels_[scout_->node_voxels_[node]];
+  cut.scout_cells = cut_voxel.first_child;
+  const Voxel* cells = &scout_->voxels_[cut.scout_cells];
+  const uint32_t g = cut_voxel.granularity;
+  cut.tri_offsets.resize(g + 1);
+  for (uint32_t i = 0; i < g; ++i) cut.tri_offsets[i] = cells[i].tri_begin - cells[0].tri_begin;
+  cut.tri_offsets[g] = cut.tri_offsets[g - 1] + cells[g - 1].tri_count;
+  cut.tris.clear();
+  cut.spanning.clear();
+  if (const uint32_t spanning = scout_->nodes_[node].spanning; spanning != Node::kNoSpanning) {
+    const LeafView leaf = leaves_.view(spanning);
+    for (uint32_t k = 0; k < leaf.count; ++k) cut.spanning.push_back(leaf.id(k));
+  }
 }
 
 // Counts `bytes` against the memory budget; false (and nothing counted) when they do not
@@ -578,17 +668,21 @@ uint32_t Grid1D::state_for(uint32_t axis, uint64_t granularity) const {
 // visible to the threads that then walk into the voxel.
 uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
   const auto g = uint32_t(cut.granularity);
-  const uint64_t bytes =
-      g * (sizeof(Voxel) + sizeof(Region)) + sizeof(Node) +
-      sizeof(uint32_t) * (1 + g + cut.tris.size() + cut.samples.size()) +
-      sizeof(float) * (Node::kSummaryFloats + grouped_box_floats(g)) +
-      (cut.spanning.empty() ? 0 : LeafStore::bytes_for(uint32_t(cut.spanning.size())));
+  const bool scouts = cut.scout_node != kNone;  // the cells' lists, boxes and spanning block
+  const uint64_t cells_bytes =
+      scouts ? 0
+             : sizeof(uint32_t) * cut.tris.size() +
+                   sizeof(float) * (Node::kSummaryFloats + grouped_box_floats(g)) +
+                   (cut.spanning.empty() ? 0 : LeafStore::bytes_for(uint32_t(cut.spanning.size())));
+  const uint64_t bytes = g * (sizeof(Voxel) + sizeof(Region)) + sizeof(Node) +
+                         sizeof(uint32_t) * (1 + g + cut.samples.size()) + cells_bytes;
   if (voxels_.size() + g >= size_t(child_ref::kMaxPayload) || !reserve_bytes(bytes)) {
     ++over_budget_;
     return kNone;
   }
-  uint32_t spanning = Node::kNoSpanning;
-  if (!cut.spanning.empty()) {
+  const Node* scouts_node = scouts ? &scout_->nodes_[cut.scout_node] : nullptr;
+  uint32_t spanning = scouts ? scouts_node->spanning : Node::kNoSpanning;
+  if (!scouts && !cut.spanning.empty()) {
     spanning = leaves_.add(leaf_ids(id, cut.spanning), input_);
     if (spanning == LeafStore::kFull) {
       ++over_budget_;
@@ -600,9 +694,11 @@ uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
   const size_t first_voxel = voxels_.append(g);
   const size_t node = nodes_.append(1);
   const size_t refs = refs_.append(g);
-  const size_t summary = child_boxes_.append(Node::kSummaryFloats + grouped_box_floats(g));
+  const size_t summary = scouts ? scouts_node->summary()
+                                : child_boxes_.append(Node::kSummaryFloats + grouped_box_floats(g));
   const size_t boxes = summary == SIZE_MAX ? SIZE_MAX : summary + Node::kSummaryFloats;
-  const size_t tri_base = tri_indices_.append(cut.tris.size());
+  const size_t tri_base =
+      scouts ? scout_->voxels_[cut.scout_cells].tri_begin : tri_indices_.append(cut.tris.size());
   const size_t sample_base = sample_indices_.append(cut.samples.size());
   if (first_voxel == SIZE_MAX || node == SIZE_MAX || node >= child_ref::kMaxPayload ||
       refs == SIZE_MAX || boxes == SIZE_MAX || boxes > UINT32_MAX || tri_base == SIZE_MAX ||
@@ -638,6 +734,7 @@ uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
   voxel.state = state;
   voxel.first_child = uint32_t(first_voxel);
   link_children(id, cut, uint32_t(first_voxel), uint32_t(node));
+  if (!scouts) write_content_boxes(id, cut, record);
   for (size_t i = 0; i < g; ++i) {
     voxels_[first_voxel + i].tri_begin = uint32_t(tri_base + cut.tri_offsets[i]);
     Region& child_region = regions_[first_voxel + i];
@@ -646,6 +743,7 @@ uint32_t Grid1D::commit_cut(uint32_t id, const Cut& cut) const {
   }
   add_progress(progress_.voxels_subdivided);
   add_progress(progress_.triangles_sorted, voxels_[id].tri_count);
+  if (scouts) add_progress(progress_.triangles_from_scout, voxels_[id].tri_count);
   raise_to(deepest_, region.depth + 1);
   return child_ref::make(child_ref::kNode, uint32_t(node));
 }
@@ -708,9 +806,8 @@ void write_summary(const float* cell_boxes, uint32_t g, const float spanning[6],
 
 }  // namespace
 
-// The cells' records: place, triangle counts, area estimate (§6.5), their references (empty
-// cells are leaves from birth: nothing to cut, ever) and their content boxes (an empty
-// cell's is empty: lo +inf, hi -inf, never crossed).
+// The cells' records: place, triangle counts, area estimate (§6.5), twins in the scout, and
+// their references (empty cells are leaves from birth: nothing to cut, ever).
 void Grid1D::link_children(uint32_t id, const Cut& cut, uint32_t first_child, uint32_t node) const {
   const Region& parent = regions_[id];
   const int axis = cut.axis;
@@ -722,33 +819,47 @@ void Grid1D::link_children(uint32_t id, const Cut& cut, uint32_t first_child, ui
   const double parent_area = surface_area(parent_extent);
   const double area_share = parent_area > 0.0 ? surface_area(child_extent) / parent_area : 1.0;
   const Node& record = nodes_[node];
+  for (uint32_t i = 0; i < g; ++i) {
+    const uint32_t child = first_child + i;
+    Voxel& voxel = voxels_[child];
+    voxel.tri_count = cut.tri_offsets[i + 1] - cut.tri_offsets[i];
+    Region& region = regions_[child];
+    region = parent;
+    region.cell[axis] = parent.cell[axis] * g + i;
+    region.grid[axis] = parent.grid[axis] * g;
+    region.above[axis] = node;
+    region.depth = parent.depth + 1;
+    region.ref = record.children + i;
+    region.scout_twin = cut.scout_node == kNone ? kNone : cut.scout_cells + i;
+    std::fill_n(region.mean_size, 3, kNotComputed);
+    region.area_rays = cut.rays * area_share;
+    const bool empty = voxel.tri_count == 0;
+    if (empty) voxel.status.store(kLeaf, std::memory_order_relaxed);
+    refs_[record.children + i].store(
+        child_ref::make(empty ? child_ref::kEmpty : child_ref::kUnbuilt, child),
+        std::memory_order_relaxed);
+  }
+}
+
+// The content boxes of a cut's cells (an empty cell's is empty: lo +inf, hi -inf, never
+// crossed) and its node's summary.
+void Grid1D::write_content_boxes(uint32_t id, const Cut& cut, const Node& record) const {
+  const auto g = uint32_t(cut.granularity);
+  double lo[3], hi[3];
+  voxel_box(id, lo, hi);
   const uint32_t stride = box_stride(g);
   float* boxes = &child_boxes_[record.boxes];
+  const uint32_t first_child = voxels_[id].first_child;
   for (uint32_t i = 0; i < stride; ++i) {
-    const uint32_t child = first_child + i;
     float box[6];
     if (i < g) {
-      Voxel& voxel = voxels_[child];
-      voxel.tri_count = cut.tri_offsets[i + 1] - cut.tri_offsets[i];
-      Region& region = regions_[child];
-      region = parent;
-      region.cell[axis] = parent.cell[axis] * g + i;
-      region.grid[axis] = parent.grid[axis] * g;
-      region.above[axis] = node;
-      region.depth = parent.depth + 1;
-      region.ref = record.children + i;
-      region.area_rays = cut.rays * area_share;
-      const bool empty = voxel.tri_count == 0;
-      if (empty) voxel.status.store(kLeaf, std::memory_order_relaxed);
-      refs_[record.children + i].store(
-          child_ref::make(empty ? child_ref::kEmpty : child_ref::kUnbuilt, child),
-          std::memory_order_relaxed);
       double cell_lo[3], cell_hi[3];
-      voxel_box(child, cell_lo, cell_hi);
+      voxel_box(first_child + i, cell_lo, cell_hi);
       const uint32_t* tris = cut.tris.data() + cut.tri_offsets[i];
       content_box(
-          voxel.tri_count, [&](uint32_t k) { return input_.box(tris[k]); }, cell_lo, cell_hi,
-          input_.clip.padding, box);
+          cut.tri_offsets[i + 1] - cut.tri_offsets[i],
+          [&](uint32_t k) { return input_.box(tris[k]); }, cell_lo, cell_hi, input_.clip.padding,
+          box);
     } else {  // padding lanes: never crossed
       content_box(
           0, [&](uint32_t) { return input_.box(0); }, lo, hi, 0.0, box);

@@ -185,8 +185,12 @@ class Grid1D final : public Accelerator {
 
   // Lazy build (build.cpp).
   void make_root();
-  std::vector<SampleRay> scout_sample(std::span<const Ray> sample_rays, const SpawnRays& spawn,
-                                      int threads);
+  std::vector<SampleRay> scout_sample(Grid1D& scout, std::span<const Ray> sample_rays,
+                                      const SpawnRays& spawn, int threads);
+  void keep_scout(std::unique_ptr<Grid1D> scout);
+  uint32_t scout_node(uint32_t voxel, int axis, int g) const;
+  uint32_t scout_leaf(uint32_t voxel) const;
+  void take_scouts_cells(uint32_t scout_node, Cut& cut) const;
   void report_sampling(uint64_t traced, const Grid1D& scout) const;
   // A voxel another thread is cutting is searched through its id list up to this many
   // triangles; a larger one is waited for (examine).
@@ -203,6 +207,7 @@ class Grid1D final : public Accelerator {
   VoxelFigures figures_of(uint32_t voxel, const double lo[3], const double hi[3],
                           size_t crossing_count) const;
   double mean_clipped_size(uint32_t voxel, int axis, const double lo[3], const double hi[3]) const;
+  double planned_mean_size(uint32_t voxel, int axis, const double lo[3], const double hi[3]) const;
   std::array<int, 3> granularity_limits(uint32_t voxel, const VoxelFigures& figures,
                                         const double lo[3], const double hi[3]) const;
   bool sort_into_cells(uint32_t voxel, int axis, int g, const double lo[3], const double hi[3],
@@ -214,6 +219,7 @@ class Grid1D final : public Accelerator {
   uint32_t passed_chain(uint32_t node) const;
   bool is_chain(uint32_t node) const;
   void link_children(uint32_t voxel, const Cut& cut, uint32_t first_child, uint32_t node) const;
+  void write_content_boxes(uint32_t voxel, const Cut& cut, const Node& node) const;
   double estimated_rays(uint32_t voxel, size_t crossing_count) const;
   uint32_t state_for(uint32_t axis, uint64_t granularity) const;
   bool reserve_bytes(uint64_t bytes) const;
@@ -234,6 +240,11 @@ class Grid1D final : public Accelerator {
   std::vector<SampleRay> sample_;
   double rays_per_sample_ = 0.0;  // rays of the run each sample ray stands for
   bool sampled_ = false;
+  // The sampling pass's scout, kept: this structure's storage of triangle lists, content
+  // boxes and leaf blocks is the scout's, continued, and a voxel the scout cut (or made a
+  // leaf) the way this one does takes the scout's as they stand instead of sorting its
+  // triangles again (Region::scout_twin; docs/design.md §1.5).
+  std::unique_ptr<Grid1D> scout_;
 
   // Lazily grown storage: appended by whichever thread cuts a voxel, never moved.
   mutable std::mutex state_mutex_;  // guards state_ids_

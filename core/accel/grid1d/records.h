@@ -16,7 +16,7 @@ namespace gs {
 
 // Where a voxel is and what the build knows about it. Cold data: read only when the voxel
 // is examined, by the inspector and by the walk recorder. Immutable once its parent is
-// published.
+// published, but for mean_size, which the thread that examines the voxel writes.
 struct Grid1D::Region {
   uint64_t cell[3];   // the voxel's slab on each axis's grid...
   uint64_t grid[3];   // ... of this granularity (1: the scene box)
@@ -24,7 +24,14 @@ struct Grid1D::Region {
   uint32_t depth;
   uint32_t ref;                         // where its child reference is (kNone: the root's)
   uint32_t sample_begin, sample_count;  // sample rays whose segments cross the voxel
-  double area_rays;                     // rays estimated from the parent by surface area (§6.5)
+  // The scout's voxel in the same place (Grid1D::scout_), when each voxel above was cut the
+  // way the scout cut its own: it then holds the same triangles, in the same order. kNone
+  // otherwise.
+  uint32_t scout_twin;
+  double area_rays;  // rays estimated from the parent by surface area (§6.5)
+  // Per axis, the mean clipped triangle size (§6.3) the voxel's plan computed; NaN where it
+  // computed none (Grid1D::planned_mean_size).
+  double mean_size[3];
 };
 
 // What the walk reads of a subdivided voxel (§5): one cache line.
@@ -128,6 +135,12 @@ struct Grid1D::Cut {
   std::vector<uint32_t> spanning;  // triangles spanning all g cells: kept at the node
   std::vector<uint32_t> sample_offsets, samples;
   double rays = 0;
+  // The scout's node and its first cell's voxel when the scout made this very cut
+  // (Grid1D::scout_node): the cells' triangle lists are then the scout's cells' (in
+  // tri_indices_, tri_offsets from the first one's tri_begin), their content boxes and the
+  // spanning triangles' leaf block the scout's node's, and `tris` stays empty.
+  uint32_t scout_node = kNone;
+  uint32_t scout_cells = kNone;
 };
 
 // Where a ray's search may stop (in its walk line's t): the stop distance of its nearest
