@@ -253,13 +253,19 @@ std::unique_ptr<Accelerator> make_structure(const Config& config, const Referenc
   return make_accelerator(config.accel, config.params);
 }
 
+// What a probe of one render found: the render's estimated seconds, and the lazy build its
+// rows set off.
+struct Probe {
+  double render_seconds = 0.0;
+  double lazy_build_seconds = 0.0;
+};
+
 // Estimated seconds of one full render, from every 32nd band of rows (in the order the
 // threads take them) until `budget` seconds have gone: so that the probe of a structure
-// that breaks down costs little. The probe's lazy building (at most 1/32 of the image) is
-// then missing from the first pass's figure.
-double estimate_render_seconds(const BenchScene& bench, const Accelerator& accel,
-                               const Camera& camera, const RenderSettings& settings,
-                               double budget) {
+// that breaks down costs little. The rows' rays build what they reach of a lazy structure:
+// the upper levels of a grid1d, which every row's rays go through, are cut here.
+Probe probe_render(const BenchScene& bench, const Accelerator& accel, const Camera& camera,
+                   const RenderSettings& settings, double budget) {
   constexpr int kProbeStride = 32;
   std::atomic<int> turn{0}, rendered{0};
   const auto start = Clock::now();
@@ -274,9 +280,9 @@ double estimate_render_seconds(const BenchScene& bench, const Accelerator& accel
       render_pass(*bench.scene, accel, camera, settings, 1, 0, nullptr, probe);
   // The lazy build the probe rows set off is paid once, not once a row: scaled up with the
   // rows it made a structure that builds lazily (the full dragon's sweep points) look slow.
-  const double tracing = std::max(0.0, pass.seconds - pass.counters.lazy_build_seconds);
-  return pass.counters.lazy_build_seconds +
-         tracing * double(turn.load()) / double(std::max(1, rendered.load()));
+  const double lazy = pass.counters.lazy_build_seconds;
+  const double tracing = std::max(0.0, pass.seconds - lazy);
+  return {lazy + tracing * double(turn.load()) / double(std::max(1, rendered.load())), lazy};
 }
 
 void fill_structure_figures(json& record, const Accelerator& accel, const RenderOutcome& warm) {
@@ -361,18 +367,19 @@ Measurement start_measurement(const RunInfo& run, const Planned& plan, const std
   record["build_seconds"] = seconds_of([&] { m.accel->build(scene); }) + seconds_of([&] {
                               sample_image(scene, *m.accel, config.camera, config.settings);
                             });
-  const double estimate = config.accel == "zero"
-                              ? 0.0
-                              : estimate_render_seconds(*config.scene, *m.accel, config.camera,
-                                                        config.settings, 0.05 * config.time_cap);
-  if (estimate > config.time_cap) {
-    measure_over_cap(record, config, *m.accel, estimate);
+  const Probe probe = config.accel == "zero"
+                          ? Probe{}
+                          : probe_render(*config.scene, *m.accel, config.camera, config.settings,
+                                         0.05 * config.time_cap);
+  if (probe.render_seconds > config.time_cap) {
+    measure_over_cap(record, config, *m.accel, probe.render_seconds);
     if (floor) record["relative_to_zero"] = record["trace_seconds"].get<double>() / floor->seconds;
     return m;
   }
   RenderOutcome first = render_image(scene, *m.accel, config.camera, config.settings, &m.answers);
-  record["first_pass_seconds"] = first.seconds;
-  record["lazy_build_seconds"] = first.counters.lazy_build_seconds;
+  const FirstPassFigures figures = first_pass_figures(first, probe.lazy_build_seconds);
+  record["first_pass_seconds"] = figures.seconds;
+  record["lazy_build_seconds"] = figures.lazy_build_seconds;
   m.image = std::move(first.image);
   m.warm = true;
   return m;
@@ -528,7 +535,7 @@ class Convergence {
     one_sample.spp = 1;
     // A structure that cannot make two passes in the time limit (the uniform grid on lumpy)
     // gets no curve rather than stalling the run.
-    if (2.0 * estimate_render_seconds(bench_, *accel, camera_, one_sample, 0.05 * time_limit_) >
+    if (2.0 * probe_render(bench_, *accel, camera_, one_sample, 0.05 * time_limit_).render_seconds >
         time_limit_)
       return points;
     std::vector<glm::vec3> sums(size_t(settings_.width) * size_t(settings_.height));
@@ -838,6 +845,11 @@ class BenchRun {
 };
 
 }  // namespace
+
+FirstPassFigures first_pass_figures(const RenderOutcome& first, double probe_lazy_build_seconds) {
+  return {first.seconds + probe_lazy_build_seconds,
+          first.counters.lazy_build_seconds + probe_lazy_build_seconds};
+}
 
 std::vector<std::string> bench_structures() {
   std::vector<std::string> names;

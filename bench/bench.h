@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "bench/progress.h"
+#include "core/render/render.h"
 #include "core/trace/trace_job.h"
 
 namespace gs {
@@ -51,6 +52,17 @@ void check_bench_options(const BenchOptions& options);
 nlohmann::json run_bench(const BenchOptions& options);
 
 // The 8-bit RGB root-mean-square difference of two equal-sized RGBA images.
+// A structure's first render in the time to the answer: its seconds and its lazy build's,
+// each with the lazy build the probe of its time (a pass over every 32nd band of rows, made
+// first so that a structure that breaks down is not rendered in full) set off before it. The
+// probe's tracing is no part of the answer; what it built is, and the first render no longer
+// pays for it (the upper levels of a grid1d, which every row's rays cross, are cut there).
+struct FirstPassFigures {
+  double seconds = 0.0;
+  double lazy_build_seconds = 0.0;
+};
+FirstPassFigures first_pass_figures(const RenderOutcome& first, double probe_lazy_build_seconds);
+
 double image_rmse(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b);
 
 }  // namespace gs
