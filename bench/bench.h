@@ -51,7 +51,6 @@ void check_bench_options(const BenchOptions& options);
 // missing are skipped with a "skipped" record naming why.
 nlohmann::json run_bench(const BenchOptions& options);
 
-// The 8-bit RGB root-mean-square difference of two equal-sized RGBA images.
 // A structure's first render in the time to the answer: its seconds and its lazy build's,
 // each with the lazy build the probe of its time (a pass over every 32nd band of rows, made
 // first so that a structure that breaks down is not rendered in full) set off before it. The
@@ -63,6 +62,7 @@ struct FirstPassFigures {
 };
 FirstPassFigures first_pass_figures(const RenderOutcome& first, double probe_lazy_build_seconds);
 
+// The 8-bit RGB root-mean-square difference of two equal-sized RGBA images.
 double image_rmse(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b);
 
 }  // namespace gs
