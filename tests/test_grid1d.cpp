@@ -854,6 +854,44 @@ TEST(Grid1DWalk, PassesByANodeWhoseSummaryTheRayMisses) {
   EXPECT_EQ(near_descents, 2u);
 }
 
+// A node's summary splits its cells into runs whose boxes are as small as they can be, not
+// into fixed quarters (write_summary): the root cut along x into eight cells; cell 1 holds two
+// flat triangles over the same x, one in each of the first two of its eight cells along y,
+// which one quarter would have held together with the gap between them. A ray up z through
+// the gap goes down into the root alone; one through a triangle goes down into both and hits
+// it, as brute force does.
+TEST(Grid1DWalk, PassesByANodeBetweenTwoClustersOfOneQuarter) {
+  Scene scene;
+  test::add_triangle(scene, {1.1f, 0.1f, 0.5f}, {1.9f, 0.1f, 0.5f}, {1.5f, 0.3f, 0.5f});  // cell 0
+  test::add_triangle(scene, {1.1f, 0.6f, 0.5f}, {1.9f, 0.6f, 0.5f}, {1.5f, 0.9f, 0.5f});  // cell 1
+  test::add_triangle(scene, {0.1f, 3.6f, 0.0f}, {0.3f, 3.6f, 1.0f}, {0.2f, 3.9f, 0.5f});  // x cell 0
+  test::add_triangle(scene, {7.7f, 0.1f, 0.0f}, {7.9f, 0.1f, 1.0f}, {7.8f, 0.3f, 0.5f});  // x cell 7
+  const std::unique_ptr<Grid1D> grid = built_with_free_cuts(scene, 8, 2);
+  ASSERT_EQ(grid->voxel(0).granularity, 8u);
+  const Grid1D::Voxel& cell = grid->voxel(grid->voxel(0).first_child + 1);
+  ASSERT_EQ(cell.status.load(), Grid1D::kSplit);
+  ASSERT_EQ(cell.axis, 1);
+  ASSERT_EQ(cell.granularity, 8u);
+  ASSERT_EQ(grid->voxel(cell.first_child).tri_count, 1u);
+  ASSERT_EQ(grid->voxel(cell.first_child + 1).tri_count, 1u);
+
+  const auto trace = [&](float x, float y) {
+    Ray ray;
+    ray.origin = {x, y, -1.0f}, ray.dir = {0.0f, 0.0f, 1.0f};
+    const auto context = grid->make_context();
+    const Hit hit = grid->intersect(ray, *context);
+    EXPECT_EQ(hit, test::brute_answers(scene, {ray})[0]) << x << " " << y;
+    return std::pair{hit, context->counters.descents};
+  };
+  const auto [gap, gap_descents] = trace(1.5f, 0.45f);
+  EXPECT_FALSE(gap.found());
+  EXPECT_EQ(gap_descents, 1u);
+  const auto [near, near_descents] = trace(1.5f, 0.7f);
+  EXPECT_EQ(near.id, 1);
+  EXPECT_EQ(near.t, 1.5f);
+  EXPECT_EQ(near_descents, 2u);
+}
+
 // The calibration's unit is a searched leaf's triangle (TraceCounters::leaf_triangles): with
 // the root kept one leaf of 20 triangles, each of 64 rays crossing the scene box searches it
 // once, alone or in a packet: 20 leaf triangles a ray, of which only those whose box the ray

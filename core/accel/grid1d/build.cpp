@@ -788,20 +788,86 @@ uint64_t Grid1D::occupied_cells(const Cut& cut) {
 
 namespace {
 
-// A node's summary (Node::boxes): box q holds the content boxes of cells q * n .. q * n + n - 1
-// (n = ceil(g / 4); floats, so the union is exact) and `spanning` (the spanning triangles'
-// box, empty when there are none). A box past the cells holds `spanning` alone.
-void write_summary(const float* cell_boxes, uint32_t g, const float spanning[6], float* summary) {
-  const uint32_t per = (g + 3) / 4;
-  for (uint32_t q = 0; q < 4; ++q)
-    for (int k = 0; k < 6; ++k) {
-      float face = spanning[k];
-      for (uint32_t i = q * per; i < std::min(g, (q + 1) * per); ++i) {
-        const float cell = cell_boxes[6 * (i & ~3u) + 4 * k + (i & 3u)];
-        face = k < 3 ? std::min(face, cell) : std::max(face, cell);
+// A box of floats, as the summary and the content boxes hold them (lo +inf, hi -inf: empty).
+struct FloatBox {
+  float lo[3] = {kInfFloat, kInfFloat, kInfFloat}, hi[3] = {-kInfFloat, -kInfFloat, -kInfFloat};
+  static constexpr float kInfFloat = std::numeric_limits<float>::infinity();
+
+  bool empty() const { return !(lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2]); }
+  void add(const FloatBox& other) {
+    for (int a = 0; a < 3; ++a)
+      lo[a] = std::min(lo[a], other.lo[a]), hi[a] = std::max(hi[a], other.hi[a]);
+  }
+  // Half its surface area: how likely a ray that meets its surroundings is to meet it.
+  double half_area() const {
+    const double x = double(hi[0]) - lo[0], y = double(hi[1]) - lo[1], z = double(hi[2]) - lo[2];
+    return x * y + y * z + z * x;
+  }
+};
+
+// Box k of a group of four in the grouped layout (box_group; faces lo.xyz, hi.xyz).
+FloatBox grouped_box(const float* group, uint32_t k) {
+  FloatBox box;
+  for (int a = 0; a < 3; ++a) box.lo[a] = group[4 * a + k], box.hi[a] = group[4 * (3 + a) + k];
+  return box;
+}
+
+// The union boxes of at most `parts` runs of consecutive boxes of `runs` whose summed half
+// areas are least (the chance that a ray meets one of them): an exact partition by dynamic
+// programming over the runs' ends. Cells are taken in at most kBlocks blocks of consecutive
+// ones, so that a node of thousands of cells costs no more than one of 64.
+std::vector<FloatBox> tightest_runs(const std::vector<FloatBox>& boxes, uint32_t parts) {
+  constexpr size_t kBlocks = 64;
+  const size_t n = boxes.size(), blocks = std::min(n, kBlocks);
+  std::vector<FloatBox> block(blocks);
+  for (size_t b = 0; b < blocks; ++b)
+    for (size_t i = b * n / blocks; i < (b + 1) * n / blocks; ++i) block[b].add(boxes[i]);
+  // least[k][j]: the least summed area of blocks 0 .. j - 1 in k runs; cut[k][j], where the
+  // last of those runs begins.
+  const size_t most = std::min<size_t>(parts, blocks);
+  std::vector<std::vector<double>> least(most + 1, std::vector<double>(blocks + 1, kInf));
+  std::vector<std::vector<size_t>> cut(most + 1, std::vector<size_t>(blocks + 1, 0));
+  least[0][0] = 0.0;
+  for (size_t k = 1; k <= most; ++k)
+    for (size_t j = k; j <= blocks; ++j) {
+      FloatBox run;
+      for (size_t i = j; i-- > k - 1;) {  // the last run is blocks i .. j - 1
+        run.add(block[i]);
+        const double area = least[k - 1][i] + run.half_area();
+        if (area < least[k][j]) least[k][j] = area, cut[k][j] = i;
       }
-      summary[4 * k + q] = face;
     }
+  // Fewer runs may cost less: two boxes that overlap count their overlap twice.
+  size_t best = most;
+  for (size_t k = 1; k < most; ++k)
+    if (least[k][blocks] < least[best][blocks]) best = k;
+  std::vector<FloatBox> runs(best);
+  for (size_t k = best, j = blocks; k > 0; j = cut[k][j], --k)
+    for (size_t i = cut[k][j]; i < j; ++i) runs[k - 1].add(block[i]);
+  return runs;
+}
+
+// A node's summary (Node::boxes): four boxes whose union holds every cell's content box and
+// `spanning` (the spanning triangles' box, empty when there are none), each box exact (a
+// union of floats). The spanning triangles' box, which runs the node's whole length, has a
+// box of its own; the cells that hold triangles are split into runs of consecutive cells
+// whose boxes are as small as they can be (tightest_runs): where a voxel holds a few clusters
+// apart, a ray between them meets no box. Boxes left over are empty.
+void write_summary(const float* cell_boxes, uint32_t g, const float spanning[6], float* summary) {
+  std::vector<FloatBox> cells;
+  for (uint32_t i = 0; i < g; ++i) {
+    const FloatBox cell = grouped_box(box_group(cell_boxes, i), box_lane(i));
+    if (!cell.empty()) cells.push_back(cell);
+  }
+  FloatBox spanning_box;
+  std::copy_n(spanning, 3, spanning_box.lo), std::copy_n(spanning + 3, 3, spanning_box.hi);
+  const bool spans = !spanning_box.empty();
+  std::vector<FloatBox> boxes = tightest_runs(cells, spans ? 3 : 4);
+  if (spans) boxes.push_back(spanning_box);
+  boxes.resize(4);
+  for (uint32_t q = 0; q < 4; ++q)
+    for (int a = 0; a < 3; ++a)
+      summary[4 * a + q] = boxes[q].lo[a], summary[4 * (3 + a) + q] = boxes[q].hi[a];
 }
 
 }  // namespace
