@@ -812,10 +812,13 @@ FloatBox grouped_box(const float* group, uint32_t k) {
   return box;
 }
 
-// The union boxes of at most `parts` runs of consecutive boxes of `runs` whose summed half
-// areas are least (the chance that a ray meets one of them): an exact partition by dynamic
-// programming over the runs' ends. Cells are taken in at most kBlocks blocks of consecutive
-// ones, so that a node of thousands of cells costs no more than one of 64.
+// The union boxes of `parts` runs of consecutive boxes of `boxes` (fewer when there are
+// fewer boxes) whose summed half areas are least (about the chance that a ray meets one of
+// them): an exact partition by dynamic programming over the runs' ends. Always as many runs
+// as allowed: fewer runs can sum less where boxes overlap, but their union is larger (on the
+// dragon that way the camera rays went down into 8% more nodes). Cells are taken in at most
+// kBlocks blocks of consecutive ones, so that a node of thousands of cells costs no more
+// than one of 64.
 std::vector<FloatBox> tightest_runs(const std::vector<FloatBox>& boxes, uint32_t parts) {
   constexpr size_t kBlocks = 64;
   const size_t n = boxes.size(), blocks = std::min(n, kBlocks);
@@ -837,12 +840,8 @@ std::vector<FloatBox> tightest_runs(const std::vector<FloatBox>& boxes, uint32_t
         if (area < least[k][j]) least[k][j] = area, cut[k][j] = i;
       }
     }
-  // Fewer runs may cost less: two boxes that overlap count their overlap twice.
-  size_t best = most;
-  for (size_t k = 1; k < most; ++k)
-    if (least[k][blocks] < least[best][blocks]) best = k;
-  std::vector<FloatBox> runs(best);
-  for (size_t k = best, j = blocks; k > 0; j = cut[k][j], --k)
+  std::vector<FloatBox> runs(most);
+  for (size_t k = most, j = blocks; k > 0; j = cut[k][j], --k)
     for (size_t i = cut[k][j]; i < j; ++i) runs[k - 1].add(block[i]);
   return runs;
 }
