@@ -864,8 +864,10 @@ TEST(Grid1DWalk, PassesByANodeBetweenTwoClustersOfOneQuarter) {
   Scene scene;
   test::add_triangle(scene, {1.1f, 0.1f, 0.5f}, {1.9f, 0.1f, 0.5f}, {1.5f, 0.3f, 0.5f});  // cell 0
   test::add_triangle(scene, {1.1f, 0.6f, 0.5f}, {1.9f, 0.6f, 0.5f}, {1.5f, 0.9f, 0.5f});  // cell 1
-  test::add_triangle(scene, {0.1f, 3.6f, 0.0f}, {0.3f, 3.6f, 1.0f}, {0.2f, 3.9f, 0.5f});  // x cell 0
-  test::add_triangle(scene, {7.7f, 0.1f, 0.0f}, {7.9f, 0.1f, 1.0f}, {7.8f, 0.3f, 0.5f});  // x cell 7
+  test::add_triangle(scene, {0.1f, 3.6f, 0.0f}, {0.3f, 3.6f, 1.0f},
+                     {0.2f, 3.9f, 0.5f});  // x cell 0
+  test::add_triangle(scene, {7.7f, 0.1f, 0.0f}, {7.9f, 0.1f, 1.0f},
+                     {7.8f, 0.3f, 0.5f});  // x cell 7
   const std::unique_ptr<Grid1D> grid = built_with_free_cuts(scene, 8, 2);
   ASSERT_EQ(grid->voxel(0).granularity, 8u);
   const Grid1D::Voxel& cell = grid->voxel(grid->voxel(0).first_child + 1);

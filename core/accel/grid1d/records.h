@@ -52,10 +52,10 @@ struct alignas(64) Grid1D::Node {
   // child_boxes_ index of the cells' content boxes (in groups of four cells,
   // core/geometry/box_test.h's grouped layout): where each cell's triangles can be hit, so that the
   // walk tests all of them at once and steps only into cells whose contents the ray meets.
-  // The group before them (kSummaryFloats) is the node's summary: four boxes, each holding
-  // the content boxes of a quarter of the cells and the spanning triangles' box, so that a
-  // ray that meets none of them passes the node by as it passes an empty cell, with one test
-  // instead of going down into it (docs/design.md §1.3).
+  // The group before them (kSummaryFloats) is the node's summary: four boxes whose union
+  // holds the cells' content boxes and the spanning triangles' box (write_summary), so that
+  // a ray that meets none of them passes the node by as it passes an empty cell, with one
+  // test instead of going down into it (docs/design.md §1.3).
   uint32_t boxes;
   // The voxel's triangles that span it along the cut axis (they would lie in every cell),
   // kept here once instead of in each cell: a LeafStore handle, or kNoSpanning. The walk
