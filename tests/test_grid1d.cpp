@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <glm/vec2.hpp>
 #include <limits>
 #include <memory>
 #include <random>
@@ -817,6 +818,31 @@ TEST(Grid1DWalk, CountsTheCellsARayCrosses) {
   EXPECT_EQ(crossed({3.5f, -1.0f, 0.5f}, {0.0f, 1.0f, 0.01f}, inf), 0u);
 }
 
+// A ray up z from below the scene at `at`: its answer, which must be brute force's, and the
+// descents its walk made.
+std::pair<Hit, uint64_t> traced_up_z(const Grid1D& grid, const Scene& scene, glm::vec2 at) {
+  Ray ray;
+  ray.origin = {at.x, at.y, -1.0f}, ray.dir = {0.0f, 0.0f, 1.0f};
+  const auto context = grid.make_context();
+  const Hit hit = grid.intersect(ray, *context);
+  EXPECT_EQ(hit, test::brute_answers(scene, {ray})[0]) << at.x << " " << at.y;
+  return {hit, context->counters.descents};
+}
+
+// Rays up z into a root whose cell holds a node, the node's triangles at z = 0.5: the one
+// through `gap` meets the cell's box but no box of the node's summary, and goes down into the
+// root alone; the one through `hit` goes down into the node too and hits triangle `id`.
+void expect_node_passed_by(const Grid1D& grid, const Scene& scene, glm::vec2 gap, glm::vec2 hit,
+                           int32_t id) {
+  const auto [missed, gap_descents] = traced_up_z(grid, scene, gap);
+  EXPECT_FALSE(missed.found());
+  EXPECT_EQ(gap_descents, 1u);
+  const auto [found, hit_descents] = traced_up_z(grid, scene, hit);
+  EXPECT_EQ(found.id, id);
+  EXPECT_EQ(found.t, 1.5f);
+  EXPECT_EQ(hit_descents, 2u);
+}
+
 // A node whose cells' content boxes all lie off the ray, though the ray meets its own cell's
 // box, is passed by with a test of its summary, without going down into it (Node::boxes): the
 // root cut along x into four cells; cell 1 holds one small triangle near each end of its
@@ -837,21 +863,7 @@ TEST(Grid1DWalk, PassesByANodeWhoseSummaryTheRayMisses) {
   ASSERT_EQ(cell.status.load(), Grid1D::kSplit);
   ASSERT_EQ(cell.axis, 1);
 
-  const auto trace = [&](float x, float y) {
-    Ray ray;
-    ray.origin = {x, y, -1.0f}, ray.dir = {0.0f, 0.0f, 1.0f};
-    const auto context = grid->make_context();
-    const Hit hit = grid->intersect(ray, *context);
-    EXPECT_EQ(hit, test::brute_answers(scene, {ray})[0]) << x << " " << y;
-    return std::pair{hit, context->counters.descents};
-  };
-  const auto [gap, gap_descents] = trace(1.5f, 1.7f);
-  EXPECT_FALSE(gap.found());
-  EXPECT_EQ(gap_descents, 1u);
-  const auto [near, near_descents] = trace(1.5f, 0.5f);
-  EXPECT_EQ(near.id, 0);
-  EXPECT_EQ(near.t, 1.5f);
-  EXPECT_EQ(near_descents, 2u);
+  expect_node_passed_by(*grid, scene, {1.5f, 1.7f}, {1.5f, 0.5f}, 0);
 }
 
 // A node's summary splits its cells into runs whose boxes are as small as they can be, not
@@ -877,21 +889,7 @@ TEST(Grid1DWalk, PassesByANodeBetweenTwoClustersOfOneQuarter) {
   ASSERT_EQ(grid->voxel(cell.first_child).tri_count, 1u);
   ASSERT_EQ(grid->voxel(cell.first_child + 1).tri_count, 1u);
 
-  const auto trace = [&](float x, float y) {
-    Ray ray;
-    ray.origin = {x, y, -1.0f}, ray.dir = {0.0f, 0.0f, 1.0f};
-    const auto context = grid->make_context();
-    const Hit hit = grid->intersect(ray, *context);
-    EXPECT_EQ(hit, test::brute_answers(scene, {ray})[0]) << x << " " << y;
-    return std::pair{hit, context->counters.descents};
-  };
-  const auto [gap, gap_descents] = trace(1.5f, 0.45f);
-  EXPECT_FALSE(gap.found());
-  EXPECT_EQ(gap_descents, 1u);
-  const auto [near, near_descents] = trace(1.5f, 0.7f);
-  EXPECT_EQ(near.id, 1);
-  EXPECT_EQ(near.t, 1.5f);
-  EXPECT_EQ(near_descents, 2u);
+  expect_node_passed_by(*grid, scene, {1.5f, 0.45f}, {1.5f, 0.7f}, 1);
 }
 
 // The calibration's unit is a searched leaf's triangle (TraceCounters::leaf_triangles): with
