@@ -788,43 +788,39 @@ uint64_t Grid1D::occupied_cells(const Cut& cut) {
 
 namespace {
 
-// A box of floats, as the summary and the content boxes hold them (lo +inf, hi -inf: empty).
-struct FloatBox {
-  float lo[3] = {kInfFloat, kInfFloat, kInfFloat}, hi[3] = {-kInfFloat, -kInfFloat, -kInfFloat};
-  static constexpr float kInfFloat = std::numeric_limits<float>::infinity();
-
-  bool empty() const { return !(lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2]); }
-  void add(const FloatBox& other) {
-    for (int a = 0; a < 3; ++a)
-      lo[a] = std::min(lo[a], other.lo[a]), hi[a] = std::max(hi[a], other.hi[a]);
-  }
-  // Half its surface area: how likely a ray that meets its surroundings is to meet it.
-  double half_area() const {
-    const double x = double(hi[0]) - lo[0], y = double(hi[1]) - lo[1], z = double(hi[2]) - lo[2];
-    return x * y + y * z + z * x;
-  }
-};
-
 // Box k of a group of four in the grouped layout (box_group; faces lo.xyz, hi.xyz).
-FloatBox grouped_box(const float* group, uint32_t k) {
-  FloatBox box;
+Box grouped_box(const float* group, uint32_t k) {
+  Box box;
   for (int a = 0; a < 3; ++a) box.lo[a] = group[4 * a + k], box.hi[a] = group[4 * (3 + a) + k];
   return box;
 }
 
+// `run` grown to hold the box `box`, which is not empty.
+void add_box(Box& run, const Box& box) {
+  run.extend(box.lo);
+  run.extend(box.hi);
+}
+
+// A box's surface area: how likely a ray that meets its surroundings is to meet it.
+double box_area(const Box& box) {
+  const double extent[3] = {double(box.hi.x) - box.lo.x, double(box.hi.y) - box.lo.y,
+                            double(box.hi.z) - box.lo.z};
+  return surface_area(extent);
+}
+
 // The union boxes of `parts` runs of consecutive boxes of `boxes` (fewer when there are
-// fewer boxes) whose summed half areas are least (about the chance that a ray meets one of
+// fewer boxes) whose summed surface areas are least (about the chance that a ray meets one of
 // them): an exact partition by dynamic programming over the runs' ends. Always as many runs
 // as allowed: fewer runs can sum less where boxes overlap, but their union is larger (on the
 // dragon that way the camera rays went down into 8% more nodes). Cells are taken in at most
 // kBlocks blocks of consecutive ones, so that a node of thousands of cells costs no more
 // than one of 64.
-std::vector<FloatBox> tightest_runs(const std::vector<FloatBox>& boxes, uint32_t parts) {
+std::vector<Box> tightest_runs(const std::vector<Box>& boxes, uint32_t parts) {
   constexpr size_t kBlocks = 64;
   const size_t n = boxes.size(), blocks = std::min(n, kBlocks);
-  std::vector<FloatBox> block(blocks);
+  std::vector<Box> block(blocks);
   for (size_t b = 0; b < blocks; ++b)
-    for (size_t i = b * n / blocks; i < (b + 1) * n / blocks; ++i) block[b].add(boxes[i]);
+    for (size_t i = b * n / blocks; i < (b + 1) * n / blocks; ++i) add_box(block[b], boxes[i]);
   // least[k][j]: the least summed area of blocks 0 .. j - 1 in k runs; cut[k][j], where the
   // last of those runs begins.
   const size_t most = std::min<size_t>(parts, blocks);
@@ -833,16 +829,16 @@ std::vector<FloatBox> tightest_runs(const std::vector<FloatBox>& boxes, uint32_t
   least[0][0] = 0.0;
   for (size_t k = 1; k <= most; ++k)
     for (size_t j = k; j <= blocks; ++j) {
-      FloatBox run;
+      Box run;
       for (size_t i = j; i-- > k - 1;) {  // the last run is blocks i .. j - 1
-        run.add(block[i]);
-        const double area = least[k - 1][i] + run.half_area();
+        add_box(run, block[i]);
+        const double area = least[k - 1][i] + box_area(run);
         if (area < least[k][j]) least[k][j] = area, cut[k][j] = i;
       }
     }
-  std::vector<FloatBox> runs(most);
+  std::vector<Box> runs(most);
   for (size_t k = most, j = blocks; k > 0; j = cut[k][j], --k)
-    for (size_t i = cut[k][j]; i < j; ++i) runs[k - 1].add(block[i]);
+    for (size_t i = cut[k][j]; i < j; ++i) add_box(runs[k - 1], block[i]);
   return runs;
 }
 
@@ -853,15 +849,16 @@ std::vector<FloatBox> tightest_runs(const std::vector<FloatBox>& boxes, uint32_t
 // whose boxes are as small as they can be (tightest_runs): where a voxel holds a few clusters
 // apart, a ray between them meets no box. Boxes left over are empty.
 void write_summary(const float* cell_boxes, uint32_t g, const float spanning[6], float* summary) {
-  std::vector<FloatBox> cells;
+  std::vector<Box> cells;
   for (uint32_t i = 0; i < g; ++i) {
-    const FloatBox cell = grouped_box(box_group(cell_boxes, i), box_lane(i));
+    const Box cell = grouped_box(box_group(cell_boxes, i), box_lane(i));
     if (!cell.empty()) cells.push_back(cell);
   }
-  FloatBox spanning_box;
-  std::copy_n(spanning, 3, spanning_box.lo), std::copy_n(spanning + 3, 3, spanning_box.hi);
+  Box spanning_box;
+  for (int a = 0; a < 3; ++a)
+    spanning_box.lo[a] = spanning[a], spanning_box.hi[a] = spanning[3 + a];
   const bool spans = !spanning_box.empty();
-  std::vector<FloatBox> boxes = tightest_runs(cells, spans ? 3 : 4);
+  std::vector<Box> boxes = tightest_runs(cells, spans ? 3 : 4);
   if (spans) boxes.push_back(spanning_box);
   boxes.resize(4);
   for (uint32_t q = 0; q < 4; ++q)
