@@ -337,6 +337,97 @@ TEST(ClipBoxTest, FloatTestTurnsAwayOnlyRaysThatMissTheBox) {
   EXPECT_GE(turned_away, clear_misses);
 }
 
+// The slab clip one axis at a time, in scalar double: the clip box's and start_walk's
+// distances as first written, for the tests below.
+bool scalar_clip(const double origin[3], const double dir[3], const double inv_dir[3],
+                 const double lo[3], const double hi[3], double& t0, double& t1, double t_exit[3]) {
+  for (int a = 0; a < 3; ++a) {
+    t_exit[a] = INFINITY;
+    if (dir[a] == 0.0) {
+      if (origin[a] < lo[a] || origin[a] > hi[a]) return false;
+      continue;
+    }
+    double ta = (lo[a] - origin[a]) * inv_dir[a], tb = (hi[a] - origin[a]) * inv_dir[a];
+    if (ta > tb) std::swap(ta, tb);
+    t_exit[a] = tb;
+    t0 = std::max(t0, ta), t1 = std::min(t1, tb);
+  }
+  return t0 <= t1;
+}
+
+// Bits of a double and a float, for bit-for-bit comparisons (NaN included).
+uint64_t bits(double x) { return std::bit_cast<uint64_t>(x); }
+uint32_t bits(float x) { return std::bit_cast<uint32_t>(x); }
+
+// The clip (ClipBox::clip) and the walk's start (start_walk), which compute two axes at a
+// time in SSE2 lanes, give the scalar clip's answer bit for bit: whether the ray is let in,
+// its t0 and t1 (signs of zero included), 1 / dir, and the walk line's origin, interval,
+// slab exits and slack, on the float test's grazing rays, with zero, negative zero and
+// tiny components, origins on and off the slabs of axes the ray is parallel to, tmin 0,
+// -0 and 0.5, from inside and outside the box.
+TEST(ClipBoxTest, ClipAndWalkStartAreTheScalarClipBitForBit) {
+  std::mt19937_64 rng(31);
+  uint64_t clipped = 0, parallel_outside = 0, zero_t0 = 0, negative_zero = 0;
+  for (int k = 0; k < 30000; ++k) {
+    const float scale = grazing_scale(k);
+    const ClipBox box(grazing_box(k, rng));
+    Ray ray = grazing_ray(k, scale, box, rng);
+    if (k % 11 == 0 && k % 2 == 0) ray.origin[k % 3] += scale;  // off a parallel slab
+    if (k % 5 == 2) {  // from the box's centre, tmin +0 or -0
+      for (int a = 0; a < 3; ++a) ray.origin[a] = float(0.5 * (box.lo[a] + box.hi[a]));
+      ray.tmin = k % 2 ? -0.0f : 0.0f;
+    }
+    if (k % 17 == 0) ray.tmin = -0.0f;
+    if (ray.dir == glm::vec3(0.0f)) continue;
+    double t0 = 0.0, t1 = 0.0, inv_dir[3];
+    const bool let_in = box.clip(ray, t0, t1, inv_dir);
+    WalkLine line;
+    const bool started = start_walk(box, ray, line);
+    // The reference: the float test and validity as the clip has them, then scalar slabs.
+    const double origin[3] = {ray.origin.x, ray.origin.y, ray.origin.z};
+    const double dir[3] = {ray.dir.x, ray.dir.y, ray.dir.z};
+    double inv[3], exits[3], ref_t0 = ray.tmin, ref_t1 = ray.tmax;
+    for (int a = 0; a < 3; ++a) inv[a] = 1.0 / dir[a];
+    const bool ref_in = !box.turns_away(ray) &&
+                        scalar_clip(origin, dir, inv, box.lo, box.hi, ref_t0, ref_t1, exits);
+    parallel_outside += !ref_in && !box.turns_away(ray) && ref_t0 <= ref_t1;
+    ASSERT_EQ(let_in, ref_in) << "ray " << k;
+    ASSERT_EQ(started, ref_in) << "ray " << k;
+    if (!ref_in) continue;
+    ++clipped;
+    zero_t0 += ref_t0 == 0.0;
+    negative_zero += bits(ref_t0) == bits(-0.0);
+    EXPECT_EQ(bits(t0), bits(ref_t0)) << "ray " << k;
+    EXPECT_EQ(bits(t1), bits(ref_t1)) << "ray " << k;
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_EQ(bits(inv_dir[a]), bits(inv[a])) << "ray " << k << " axis " << a;
+      EXPECT_EQ(bits(line.inv_dir[a]), bits(inv[a])) << "ray " << k << " axis " << a;
+    }
+    // The walk line: the origin moved to the entry (or kept, from inside), its interval.
+    const double shift = box.starts_inside(ray) ? double(ray.tmin) : ref_t0;
+    double moved[3];
+    for (int a = 0; a < 3; ++a) moved[a] = origin[a] + shift * dir[a];
+    const double slack = walk_slack(ray, box.magnitude, inv);
+    double line_t0 = double(ray.tmin) - shift - slack, line_t1 = INFINITY;
+    ASSERT_TRUE(scalar_clip(moved, dir, inv, box.lo, box.hi, line_t0, line_t1, exits) ||
+                !(line.t0 <= line.t1))
+        << "ray " << k;
+    EXPECT_EQ(bits(line.shift), bits(shift)) << "ray " << k;
+    EXPECT_EQ(bits(line.slack), bits(slack)) << "ray " << k;
+    EXPECT_EQ(bits(line.t0), bits(line_t0)) << "ray " << k;
+    EXPECT_EQ(bits(line.t1), bits(line_t1)) << "ray " << k;
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_EQ(bits(line.origin[a]), bits(moved[a])) << "ray " << k << " axis " << a;
+      EXPECT_EQ(bits(line.dir[a]), bits(dir[a])) << "ray " << k << " axis " << a;
+      EXPECT_EQ(bits(line.t_exit[a]), bits(exits[a])) << "ray " << k << " axis " << a;
+    }
+  }
+  EXPECT_GT(clipped, 8000u);
+  EXPECT_GT(parallel_outside, 100u);
+  EXPECT_GT(zero_t0, 3000u);
+  EXPECT_GT(negative_zero, 1000u);
+}
+
 // A ray that starts inside the clip box at tmin = 0 takes start_walk's short way
 // (ClipBox::starts_inside), and only such a ray: its origin inside the double box and tmin
 // +0 or -0. Its walk line then starts where clip's t0 says and with clip's 1 / dir, bit for
@@ -704,10 +795,6 @@ TEST(BoxTest, PacketBoundsRuleOutOnlyBoxesNoRayCrosses) {
   EXPECT_GT(missed_by_all, boxes_seen / 4);
   EXPECT_GT(ruled_out, missed_by_all * 3 / 4);
 }
-
-// Bits of a double and a float, for bit-for-bit comparisons (NaN included).
-uint64_t bits(double x) { return std::bit_cast<uint64_t>(x); }
-uint32_t bits(float x) { return std::bit_cast<uint32_t>(x); }
 
 // The box the packet start's rays are made for.
 const Box kStartBox{glm::vec3(-1.0f, -2.0f, -1.5f), glm::vec3(2.0f, 1.0f, 2.5f)};

@@ -54,27 +54,19 @@ struct ClipBox {
   // walk and kernel. Most camera rays framing a scene from outside miss the box (72% of
   // lumpy's, 55% of the bunny's): a float test turns most of them away before the double
   // clip.
-  bool clip(const Ray& ray, double& t0, double& t1, double inv_dir[3]) const {
-    if (empty || misses_surely(ray) || !ray_is_valid(ray)) return false;
-    const float* origin = &ray.origin.x;
-    const float* dir = &ray.dir.x;
-    t0 = ray.tmin, t1 = ray.tmax;
-    for (int a = 0; a < 3; ++a) {
-      inv_dir[a] = 1.0 / double(dir[a]);
-      if (dir[a] == 0.0f) {
-        if (origin[a] < lo[a] || origin[a] > hi[a]) return false;
-        continue;
-      }
-      const double inv = inv_dir[a];
-      double ta = (lo[a] - origin[a]) * inv, tb = (hi[a] - origin[a]) * inv;
-      if (ta > tb) std::swap(ta, tb);
-      t0 = std::max(t0, ta), t1 = std::min(t1, tb);
-    }
-    return t0 <= t1;
-  }
+  // Per axis, the slab's entry and exit (lo - o) * (1 / d) and (hi - o) * (1 / d) in their
+  // order; t0 is the largest of tmin and the entries, t1 the least of tmax and the exits. An
+  // axis the ray is parallel to only excludes an origin outside its slab.
+  bool clip(const Ray& ray, double& t0, double& t1, double inv_dir[3]) const;
   bool clip(const Ray& ray, double& t0, double& t1) const {
     double inv_dir[3];
     return clip(ray, t0, t1, inv_dir);
+  }
+
+  // Whether the clip returns false before its distances: an empty box, a ray the float test
+  // turns away, an invalid ray.
+  bool turns_away(const Ray& ray) const {
+    return empty || misses_surely(ray) || !ray_is_valid(ray);
   }
 
   // Whether the ray starts inside the box at tmin = 0 (a shadow ray, a camera in a room):
