@@ -281,6 +281,18 @@ Ray grazing_ray(int k, float scale, const ClipBox& box, std::mt19937_64& rng) {
   return ray;
 }
 
+// Case k of the grazing rays: its scale, box and ray.
+struct GrazingCase {
+  float scale;
+  ClipBox box;
+  Ray ray;
+};
+GrazingCase grazing_case(int k, std::mt19937_64& rng) {
+  const float scale = grazing_scale(k);
+  const ClipBox box(grazing_box(k, rng));
+  return {scale, box, grazing_ray(k, scale, box, rng)};
+}
+
 // The clip box's float test (ClipBox::misses_surely) turns a ray away only when its
 // segment [tmin, tmax] misses the box: never for a ray whose exact segment (long double)
 // meets the box, nor for one the double clip (clip_segment) lets in, nor for one from
@@ -290,9 +302,7 @@ TEST(ClipBoxTest, FloatTestTurnsAwayOnlyRaysThatMissTheBox) {
   std::mt19937_64 rng(29);
   uint64_t meeting = 0, clear_misses = 0, turned_away = 0, far = 0;
   for (int k = 0; k < 30000; ++k) {
-    const float scale = grazing_scale(k);
-    const ClipBox box(grazing_box(k, rng));
-    const Ray ray = grazing_ray(k, scale, box, rng);
+    const auto [scale, box, ray] = grazing_case(k, rng);
     if (ray.dir == glm::vec3(0.0f)) continue;
     const bool turned = box.misses_surely(ray);
     turned_away += turned;
@@ -369,9 +379,7 @@ TEST(ClipBoxTest, ClipAndWalkStartAreTheScalarClipBitForBit) {
   std::mt19937_64 rng(31);
   uint64_t clipped = 0, parallel_outside = 0, zero_t0 = 0, negative_zero = 0;
   for (int k = 0; k < 30000; ++k) {
-    const float scale = grazing_scale(k);
-    const ClipBox box(grazing_box(k, rng));
-    Ray ray = grazing_ray(k, scale, box, rng);
+    auto [scale, box, ray] = grazing_case(k, rng);
     if (k % 11 == 0 && k % 2 == 0) ray.origin[k % 3] += scale;  // off a parallel slab
     if (k % 5 == 2) {  // from the box's centre, tmin +0 or -0
       for (int a = 0; a < 3; ++a) ray.origin[a] = float(0.5 * (box.lo[a] + box.hi[a]));
