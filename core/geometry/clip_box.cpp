@@ -88,21 +88,18 @@ struct SlabPair {
           (_mm_movemask_pd(off) & lanes) != 0};
 }
 
-// The three axes' slabs (slab_pair), and [t0, t1] clipped to them: t0 raised to each entry
-// and t1 lowered to each exit, x, y, then z, as std::max(t0, entry) and std::min(t1, exit)
-// do (maxsd and minsd keep their second operand on a tie: the signs of zero come out the
-// scalar clip's). False when the lines lie outside a slab they are parallel to, or nothing
-// is left.
-struct Slabs {
-  AxisPairs entry, exit;
-};
+// The three axes' slabs (slab_pair), their exits in `exit`, and [t0, t1] clipped to them: t0
+// raised to each entry and t1 lowered to each exit, x, y, then z, as std::max(t0, entry) and
+// std::min(t1, exit) do (maxsd and minsd keep their second operand on a tie: the signs of
+// zero come out the scalar clip's). False when the lines lie outside a slab they are
+// parallel to, or nothing is left.
 [[gnu::always_inline]] inline bool clip_to_slabs(const AxisPairs& origin, const AxisPairs& dir,
                                                  const AxisPairs& inv, const double lo[3],
                                                  const double hi[3], double& t0, double& t1,
-                                                 Slabs& out) {
+                                                 AxisPairs& exit) {
   const SlabPair xy = slab_pair(origin.xy, dir.xy, inv.xy, _mm_loadu_pd(lo), _mm_loadu_pd(hi), 3);
   const SlabPair z = slab_pair(origin.z, dir.z, inv.z, _mm_load_sd(lo + 2), _mm_load_sd(hi + 2), 1);
-  out = {{xy.entry, z.entry}, {xy.exit, z.exit}};
+  exit = {xy.exit, z.exit};
   if (xy.outside || z.outside) return false;
   __m128d start = _mm_set_sd(t0), end = _mm_set_sd(t1);
   start = _mm_max_sd(xy.entry, start), end = _mm_min_sd(xy.exit, end);
@@ -117,8 +114,8 @@ struct Slabs {
 [[gnu::always_inline]] inline bool clip_pairs(const ClipBox& box, const Ray& ray,
                                               const RayPairs& pairs, double& t0, double& t1) {
   t0 = ray.tmin, t1 = ray.tmax;
-  Slabs slabs;
-  return clip_to_slabs(pairs.origin, pairs.dir, pairs.inv, box.lo, box.hi, t0, t1, slabs);
+  AxisPairs exit;
+  return clip_to_slabs(pairs.origin, pairs.dir, pairs.inv, box.lo, box.hi, t0, t1, exit);
 }
 
 }  // namespace
@@ -154,10 +151,10 @@ bool start_walk(const ClipBox& box, const Ray& ray, WalkLine& line) {
     line.far |= !(std::fabs(double(ray.origin[a])) <= WalkLine::kNearRange * box.magnitude);
   // The moved line's own interval in the box; the kernel accepts nothing before tmin.
   line.t0 = double(ray.tmin) - line.shift - line.slack, line.t1 = kInf;
-  Slabs slabs;
+  AxisPairs exit;
   const bool in_box =
-      clip_to_slabs(origin, pairs.dir, pairs.inv, box.lo, box.hi, line.t0, line.t1, slabs);
-  slabs.exit.store(line.t_exit);
+      clip_to_slabs(origin, pairs.dir, pairs.inv, box.lo, box.hi, line.t0, line.t1, exit);
+  exit.store(line.t_exit);
   return in_box;
 }
 
