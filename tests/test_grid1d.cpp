@@ -171,7 +171,7 @@ TEST(Grid1DBuild, LazyTwoThreadsBuildTheSameVoxelsAsEager) {
 TEST(Grid1DSampling, TheScoutsThreadsCutWhatOneThreadCuts) {
   const Scene& scene = cases()[1].scene;
   const Camera camera = frame_box(scene.bounds());
-  const Lighting lighting = make_lighting(scene, camera, std::nullopt);
+  const Lighting lighting = make_lighting(scene.bounds(), camera, std::nullopt);
   constexpr int kSide = 40;
   std::vector<Ray> primaries;
   for (int y = 0; y < kSide; ++y)
@@ -250,7 +250,7 @@ TEST(Grid1DSampling, CutsTakenFromTheScoutHoldWhatTheirGeometrySays) {
   for (const size_t scene_index : {size_t{0}, size_t{1}, size_t{2}}) {
     const Scene& scene = cases()[scene_index].scene;
     const Camera camera = frame_box(scene.bounds());
-    const Lighting lighting = make_lighting(scene, camera, std::nullopt);
+    const Lighting lighting = make_lighting(scene.bounds(), camera, std::nullopt);
     std::vector<Ray> primaries;
     // A sample of 8x8 rays standing for 4096 each: the final structure cuts most voxels as the
     // scout did, some otherwise, and build_all cuts voxels the scout never reached.

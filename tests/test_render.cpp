@@ -234,6 +234,32 @@ TEST(RenderImage, LitAndShadowedFloorHaveClosedFormColours) {
   }
 }
 
+// Renders place the light by their structure's box (make_lighting(accel.bounds(), ...)), not
+// by a scan of the scene's triangles on every pass: every structure must keep exactly the
+// box Scene::bounds computes, or its images would be lit from elsewhere. A floor and a
+// pyramid whose triangles leave a vertex unused (far off, so that a box of the vertices
+// rather than of the triangles' corners would differ).
+TEST(RenderImage, EveryStructureKeepsTheSceneBoxTheLightIsPlacedBy) {
+  for (Scene scene : {open_floor(), load_scene("builtin:pyramid")}) {
+    scene.vertices.push_back({1e6f, -1e6f, 1e6f});
+    const Box box = scene.bounds();
+    ASSERT_LT(box.hi.x, 1e6f);
+    int checked = 0;
+    for (const Structure& structure : structures()) {
+      if (!structure.available() || structure.needs_oracle) continue;
+      const std::unique_ptr<Accelerator> accel = structure.make(AccelParams{});
+      accel->build(scene);
+      const Box kept = accel->bounds();
+      for (int a = 0; a < 3; ++a) {
+        EXPECT_EQ(kept.lo[a], box.lo[a]) << structure.name << " axis " << a;
+        EXPECT_EQ(kept.hi[a], box.hi[a]) << structure.name << " axis " << a;
+      }
+      ++checked;
+    }
+    EXPECT_GE(checked, 6);
+  }
+}
+
 // Stands in for a structure to see what an image's sampling pass hands over: the sample, the
 // weight of each sample ray and the rays spawned from brute force's answers.
 class SampleSpy final : public Accelerator {

@@ -98,7 +98,7 @@ void CameraInput::keys(ViewState& state) {
   if (io.WantCaptureKeyboard) return;
   const ViewSetup& setup = state.session.setup();
   if (ImGui::IsKeyPressed(GLFW_KEY_F, false))
-    state.place_camera(frame_box(setup.scene->bounds(), float(setup.width) / setup.height));
+    state.place_camera(frame_box(setup.scene_box, float(setup.width) / setup.height));
   if (ImGui::IsKeyPressed(GLFW_KEY_R, false) && state.start_camera)
     state.place_camera(*state.start_camera);
   if (fly_) fly_keys(state, io);

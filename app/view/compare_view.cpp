@@ -195,7 +195,7 @@ void CompareView::draw_b(const ViewState& state, std::span<const uint8_t> rgba) 
   input.image_height = b.height;
   input.rgba = rgba;
   input.camera = session_->frame_camera();
-  input.scene_box = state.session.setup().scene->bounds();
+  input.scene_box = state.session.setup().scene_box;
   renderer_.draw(b.width, b.height, input);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }

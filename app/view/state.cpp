@@ -18,6 +18,7 @@ Session::Session(std::shared_ptr<const Scene> scene, const std::string& accel,
                  const AccelParams& params, std::function<void()> frame_ready)
     : renderer_(std::move(frame_ready)) {
   setup_.scene = std::move(scene);
+  setup_.scene_box = setup_.scene->bounds();
   setup_.accel = accel;
   setup_.params = params;
   setup_.max_spp = 256;
@@ -52,6 +53,7 @@ void Session::set_max_spp(int max_spp) {
 
 void Session::set_scene(std::shared_ptr<const Scene> scene, const Camera& camera) {
   setup_.scene = std::move(scene);
+  setup_.scene_box = setup_.scene->bounds();
   setup_.camera = camera;
   ++camera_changes_;
   restart();

@@ -176,7 +176,7 @@ void Viewer::lay_out() {
 Camera Viewer::initial_camera(int width, int height) const {
   if (job_.camera) return *job_.camera;
   if (job_.scene.empty()) return parse_camera(kCloseUp);
-  return frame_box(state_.session.setup().scene->bounds(), float(width) / float(height));
+  return frame_box(state_.session.setup().scene_box, float(width) / float(height));
 }
 
 void Viewer::render() {

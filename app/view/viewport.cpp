@@ -155,7 +155,7 @@ void ViewportImage::draw_content(const ViewState& state, OverlayCache& overlays,
                    : std::span<const uint8_t>(frame.image.rgba);
   input.distance = state.session.distances();
   input.camera = state.session.frame_camera();
-  input.scene_box = setup.scene->bounds();
+  input.scene_box = setup.scene_box;
   input.lines = content.lines;
   frame_renderer_.draw(setup.width, setup.height, input);
 }

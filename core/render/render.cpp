@@ -351,7 +351,7 @@ RenderOutcome render_rows(const Scene& scene, const Accelerator& accel, const Ca
   image.rgba.resize(size_t(image.width) * size_t(image.height) * 4);
   outcome.pixels = std::move(storage.pixels);
   outcome.pixels.resize(size_t(image.width) * size_t(image.height));
-  const Lighting lighting = make_lighting(scene, camera, settings.light);
+  const Lighting lighting = make_lighting(accel.bounds(), camera, settings.light);
   const bool packets = settings.packets && accel.traces_packets();
   const int side = packets ? kPacketSide : 1;
   const int band_rows = stride > 1 ? stride : side;
@@ -422,7 +422,7 @@ void sample_image(const Scene& scene, Accelerator& accel, const Camera& camera,
   const PrimaryRays primary_ray(camera, w, h);
   for (const size_t pixel : image_sample_pixels(w, h))
     primaries.push_back(primary_ray(int(pixel % size_t(w)), int(pixel / size_t(w))));
-  sample_image_rays(accel, scene, make_lighting(scene, camera, settings.light), primaries,
+  sample_image_rays(accel, scene, make_lighting(accel.bounds(), camera, settings.light), primaries,
                     size_t(w) * size_t(h) * size_t(settings.spp), settings.threads);
 }
 

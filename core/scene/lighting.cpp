@@ -14,9 +14,8 @@ float max_abs(const glm::vec3& p) {
 
 }  // namespace
 
-Lighting make_lighting(const Scene& scene, const Camera& camera,
+Lighting make_lighting(const Box& box, const Camera& camera,
                        const std::optional<glm::vec3>& placed) {
-  const Box box = scene.bounds();
   const float size = box.empty() ? 1.0f : std::max(glm::length(box.hi - box.lo), 1e-6f);
   if (placed) return {*placed, size};
   // Above and behind the viewer, a little to the side, so that faces towards the camera are

@@ -16,8 +16,11 @@ struct Lighting {
   float offset_scale;  // rays leave a surface this far (times the coordinates' size) off it
 };
 
-// The light at `placed`, or by default above and behind the camera.
-Lighting make_lighting(const Scene& scene, const Camera& camera,
+// The light at `placed`, or by default above and behind the camera, for a scene whose box
+// (Scene::bounds) is `scene_box`. The box, not the scene: renders take it from their
+// structure (Accelerator::bounds), since a scan of every triangle per pass cost the viewer's
+// passes over the 871k-triangle dragon about 10 ms each.
+Lighting make_lighting(const Box& scene_box, const Camera& camera,
                        const std::optional<glm::vec3>& placed);
 
 // A hit point and its normal, turned to face where the ray came from (two-sided surfaces).

@@ -49,8 +49,9 @@ double prepare(Accelerator& accel, const Scene& scene, const std::vector<Ray>& r
     const std::vector<Ray> subset = sample_of(rays, job);
     seconds += seconds_of([&] {
       if (job.sample_camera)
-        sample_image_rays(accel, scene, make_lighting(scene, *job.sample_camera, std::nullopt),
-                          subset, rays.size(), job.threads);
+        sample_image_rays(accel, scene,
+                          make_lighting(accel.bounds(), *job.sample_camera, std::nullopt), subset,
+                          rays.size(), job.threads);
       else
         sample_run(accel, subset, rays.size(), job.threads);
     });
