@@ -29,7 +29,7 @@ namespace gs {
 struct ViewSetup {
   std::shared_ptr<const Scene> scene;  // shared with the UI, never modified
   // scene->bounds(), computed once with the scene: the UI draws every frame with it (near
-  // and far planes), and a scan of the 871k-triangle dragon takes about 10 ms.
+  // and far planes), and a scan of the 871k-triangle dragon takes about 6 ms.
   Box scene_box;
   std::string accel = "grid1d";
   AccelParams params;
